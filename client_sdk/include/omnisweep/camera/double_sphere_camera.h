@@ -1,0 +1,129 @@
+// Double sphere camera model (Usenko, Demmel, Cremers, 3DV 2018), basalt's "ds".
+//
+// Parameters: fx, fy, cx, cy, xi, alpha. Projection of a point (x, y, z), ALGORITHM.md §2:
+//   d1 = |(x, y, z)|, c = xi * d1 + z, d2 = |(x, y, c)|, den = alpha * d2 + (1 - alpha) * c
+//   u = fx * x / den + cx, v = fy * y / den + cy
+//   valid iff z > -w2 * d1, w1 = alpha > 0.5 ? (1 - alpha) / alpha : alpha / (1 - alpha),
+//   w2 = (w1 + xi) / sqrt(2 * w1 * xi + xi^2 + 1)
+// Unprojection of (u, v) to a unit ray:
+//   mx = (u - cx) / fx, my = (v - cy) / fy, r2 = mx^2 + my^2, valid iff 1 - (2 alpha - 1) r2 >= 0
+//   mz = (1 - alpha^2 r2) / (alpha * sqrt(1 - (2 alpha - 1) r2) + 1 - alpha)
+//   k = (mz * xi + sqrt(mz^2 + (1 - xi^2) r2)) / (mz^2 + r2), ray = (k mx, k my, k mz - xi)
+// For parameters where the projection folds before that limit (see monotonic_angle_limit), the
+// valid cone ends at the fold. A pixel is valid when its ray lies in the valid cone, so that
+// project and unproject are inverse on their valid sets, whatever the parameters.
+#pragma once
+
+#include <array>
+#include <cmath>
+#include <string_view>
+
+#include <Eigen/Core>
+
+#include "omnisweep/camera/camera_common.h"
+
+namespace omnisweep {
+
+template <typename Scalar = double>
+class DoubleSphereCamera {
+ public:
+  static constexpr int kNumParams = 6;
+  static constexpr std::string_view kName = "ds";
+  static constexpr std::array<std::string_view, kNumParams> kParamNames = {"fx", "fy", "cx",
+                                                                           "cy", "xi", "alpha"};
+  using Params = Eigen::Matrix<Scalar, kNumParams, 1>;
+  using Vec2 = Eigen::Matrix<Scalar, 2, 1>;
+  using Vec3 = Eigen::Matrix<Scalar, 3, 1>;
+
+  DoubleSphereCamera() : DoubleSphereCamera(Params(1, 1, 0, 0, 0, 0.5)) {}
+  explicit DoubleSphereCamera(const Params& params) : params_(params), max_angle_(find_max_angle()) {
+    cos_max_ = std::cos(max_angle_);
+  }
+
+  const Params& params() const { return params_; }
+  Scalar xi() const { return params_[4]; }
+  Scalar alpha() const { return params_[5]; }
+
+  // Returns true when p projects validly. *uv is written whenever the formula is defined
+  // (also for some invalid points) and is never NaN.
+  bool project(const Vec3& p, Vec2* uv) const {
+    const Scalar fx = params_[0], fy = params_[1], cx = params_[2], cy = params_[3];
+    const Scalar x = p.x(), y = p.y(), z = p.z();
+    const Scalar d1 = std::sqrt(x * x + y * y + z * z);
+    const Scalar c = xi() * d1 + z;
+    const Scalar d2 = std::sqrt(x * x + y * y + c * c);
+    const Scalar den = alpha() * d2 + (Scalar(1) - alpha()) * c;
+    if (!(den > Scalar(0)) || !std::isfinite(den)) {
+      *uv = Vec2(cx, cy);
+      return false;
+    }
+    *uv = Vec2(fx * x / den + cx, fy * y / den + cy);
+    return camera_detail::within_cone(p, cos_max_) && uv->allFinite();
+  }
+
+  // Returns true when (u, v) maps to a ray; *ray (unit length) is written only then.
+  bool unproject(const Vec2& uv, Vec3* ray) const {
+    const Scalar mx = (uv.x() - params_[2]) / params_[0];
+    const Scalar my = (uv.y() - params_[3]) / params_[1];
+    const Scalar r2 = mx * mx + my * my;
+    const Scalar a = alpha(), x = xi();
+    const Scalar s1 = Scalar(1) - (Scalar(2) * a - Scalar(1)) * r2;
+    if (!(s1 >= Scalar(0))) return false;
+    const Scalar mz = (Scalar(1) - a * a * r2) / (a * std::sqrt(s1) + Scalar(1) - a);
+    const Scalar s2 = mz * mz + (Scalar(1) - x * x) * r2;
+    const Scalar den = mz * mz + r2;
+    if (!(s2 >= Scalar(0)) || !(den > Scalar(0))) return false;
+    const Scalar k = (mz * x + std::sqrt(s2)) / den;
+    const Vec3 r(k * mx, k * my, k * mz - x);
+    const Scalar n = r.norm();
+    if (!(n > Scalar(0)) || !std::isfinite(n)) return false;
+    const Vec3 unit = r / n;
+    if (!(unit.z() > cos_max_)) return false;
+    *ray = unit;
+    return true;
+  }
+
+  // Largest angle between the optical axis and a projectable ray (half the model's FOV).
+  Scalar max_angle() const { return max_angle_; }
+
+  DoubleSphereCamera scaled(Scalar sx, Scalar sy) const {
+    return DoubleSphereCamera(camera_detail::scale_intrinsics(params_, sx, sy));
+  }
+
+  std::optional<ParamIssue> check() const {
+    if (auto issue = camera_detail::check_common(params_)) return issue;
+    if (!(alpha() >= 0 && alpha() <= 1)) return ParamIssue{5, "must be within [0, 1]"};
+    return std::nullopt;
+  }
+
+  template <typename Other>
+  DoubleSphereCamera<Other> cast() const {
+    return DoubleSphereCamera<Other>(params_.template cast<Other>());
+  }
+
+ private:
+  Scalar w2() const {
+    const Scalar a = alpha(), x = xi();
+    const Scalar w1 = a > Scalar(0.5) ? (Scalar(1) - a) / a : a / (Scalar(1) - a);
+    return (w1 + x) / std::sqrt(Scalar(2) * w1 * x + x * x + Scalar(1));
+  }
+
+  // acos(-w2), or the fold angle when the projection folds first.
+  Scalar find_max_angle() const {
+    const Scalar c = -w2();
+    const Scalar limit = std::acos(c < Scalar(-1) ? Scalar(-1) : (c > Scalar(1) ? Scalar(1) : c));
+    const Scalar a = alpha(), x = xi();
+    auto radius = [&](Scalar t) {  // image radius / fx of the ray (sin t, 0, cos t)
+      const Scalar cc = x + std::cos(t);
+      const Scalar den = a * std::sqrt(std::sin(t) * std::sin(t) + cc * cc) + (Scalar(1) - a) * cc;
+      return den > Scalar(0) ? std::sin(t) / den : Scalar(-1);
+    };
+    return limit == limit ? camera_detail::monotonic_angle_limit(radius, limit) : Scalar(0);
+  }
+
+  Params params_;
+  Scalar max_angle_;
+  Scalar cos_max_ = 1;
+};
+
+}  // namespace omnisweep

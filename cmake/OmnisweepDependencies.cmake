@@ -1,0 +1,17 @@
+# All dependencies come from Debian 12 packages (scripts/quickstart installs them).
+# The compute core needs only Eigen (and Vulkan); the others stay at the edges.
+find_package(Eigen3 3.4 REQUIRED NO_MODULE)
+find_package(nlohmann_json 3.10 REQUIRED)
+find_package(OpenCV 4.6 REQUIRED COMPONENTS core imgproc imgcodecs videoio ximgproc)
+find_package(Vulkan REQUIRED)
+find_program(GLSLANG_VALIDATOR glslangValidator REQUIRED)
+find_package(fastcdr REQUIRED)
+find_package(fastrtps REQUIRED)
+find_package(libjpeg-turbo REQUIRED)
+find_package(zstd REQUIRED)
+find_package(OpenEXR 3 REQUIRED)
+find_package(Threads REQUIRED)
+find_package(OpenMP REQUIRED COMPONENTS CXX)
+if(OMNISWEEP_BUILD_TESTS)
+  find_package(GTest REQUIRED)
+endif()
