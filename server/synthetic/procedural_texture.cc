@@ -57,7 +57,8 @@ Eigen::Vector3f tiles(const Material& m, const Eigen::Vector3f& p, const Eigen::
   const float fx = std::floor(uv.x()), fy = std::floor(uv.y());
   // Per-tile tone, resolved only while tiles are larger than a few pixels.
   const float tile_weight = detail_weight(m.scale, footprint);
-  const float tone = lerp(0.5f, unit(hash3(std::int32_t(fx), std::int32_t(fy), 7, m.seed)), tile_weight);
+  const float tone =
+      lerp(0.5f, unit(hash3(std::int32_t(fx), std::int32_t(fy), 7, m.seed)), tile_weight);
   Eigen::Vector3f c = mix(m.color_a, m.color_b, 0.35f * tone);
   // Fine grain on each tile.
   const float grain = filtered_fbm(p, m.scale * 0.35f, footprint, m.seed + 11, 5);
@@ -123,7 +124,8 @@ Eigen::Vector3f albedo(const Material& m, const Eigen::Vector3f& p, const Eigen:
       return tiles(m, p, n, footprint);
     case Pattern::kStripes: {
       const float warp = filtered_fbm(p, m.scale * 2.0f, footprint, m.seed, 4) * 1.5f;
-      const float band = 0.5f + 0.5f * std::sin((p.y() + p.x() * 0.3f) / m.scale * 6.2831853f + warp * 6.0f);
+      const float band =
+          0.5f + 0.5f * std::sin((p.y() + p.x() * 0.3f) / m.scale * 6.2831853f + warp * 6.0f);
       const float w = detail_weight(m.scale, footprint);
       const float detail = filtered_fbm(p, m.scale * 0.25f, footprint, m.seed + 5, 4);
       return mix(m.color_a, m.color_b, lerp(0.5f, band, w)) * (0.85f + 0.3f * detail);

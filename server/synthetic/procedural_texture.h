@@ -4,9 +4,8 @@
 // same from cameras at different distances (which stereo matching relies on).
 #pragma once
 
-#include <cstdint>
-
 #include <Eigen/Core>
+#include <cstdint>
 
 namespace omnisweep::synthetic {
 

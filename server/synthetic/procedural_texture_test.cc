@@ -1,8 +1,8 @@
 #include "server/synthetic/procedural_texture.h"
 
-#include <cmath>
-
 #include <gtest/gtest.h>
+
+#include <cmath>
 
 namespace omnisweep::synthetic {
 namespace {
@@ -24,7 +24,8 @@ TEST(ProceduralTexture, DetailFinerThanTheFootprintFadesToItsMean) {
   auto spread = [](float footprint) {
     float lo = 1, hi = 0;
     for (int i = 0; i < 2000; ++i) {
-      const float v = filtered_fbm(Eigen::Vector3f(0.713f * i, 0.291f * i, -0.5f * i), 0.5f, footprint, 3);
+      const float v =
+          filtered_fbm(Eigen::Vector3f(0.713f * i, 0.291f * i, -0.5f * i), 0.5f, footprint, 3);
       lo = std::min(lo, v);
       hi = std::max(hi, v);
     }

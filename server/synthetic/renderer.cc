@@ -8,9 +8,12 @@
 namespace omnisweep::synthetic {
 namespace {
 
-std::uint8_t to_byte(float v) { return std::uint8_t(std::lround(std::clamp(v, 0.0f, 1.0f) * 255.0f)); }
+std::uint8_t to_byte(float v) {
+  return std::uint8_t(std::lround(std::clamp(v, 0.0f, 1.0f) * 255.0f));
+}
 
-void store(const Scene& scene, const Ray& ray, float pixel_angle, int x, int y, RenderedImage* out) {
+void store(const Scene& scene, const Ray& ray, float pixel_angle, int x, int y,
+           RenderedImage* out) {
   Hit hit;
   if (!scene.intersect(ray, &hit)) return;
   const Eigen::Vector3f c = scene.shade(ray, hit, pixel_angle);
@@ -19,14 +22,15 @@ void store(const Scene& scene, const Ray& ray, float pixel_angle, int x, int y, 
 }
 
 // The unit ray of pixel (u, v) in camera coordinates, when it lies inside the lens circle.
-bool lens_ray(const RigCamera& camera, double u, double v, double cos_half_fov, Eigen::Vector3d* ray) {
+bool lens_ray(const RigCamera& camera, double u, double v, double cos_half_fov,
+              Eigen::Vector3d* ray) {
   return camera.model.unproject(Eigen::Vector2d(u, v), ray) && ray->z() >= cos_half_fov;
 }
 
 }  // namespace
 
-RenderedImage render_camera(const Scene& scene, const RigCamera& camera, const Rigid3d& world_from_rig,
-                            double lens_half_fov) {
+RenderedImage render_camera(const Scene& scene, const RigCamera& camera,
+                            const Rigid3d& world_from_rig, double lens_half_fov) {
   RenderedImage out{Rgb8Image(camera.width, camera.height, 3, 0),
                     FloatImage(camera.width, camera.height, 1, 0.0f)};
   const Rigid3d world_from_cam = world_from_rig * camera.rig_from_cam;
@@ -46,8 +50,9 @@ RenderedImage render_camera(const Scene& scene, const RigCamera& camera, const R
       // The pixel's angular size, from its neighbour on the row (texture filtering).
       Eigen::Vector3d next;
       const float pixel_angle = has_prev ? float((ray - prev).norm())
-                                : lens_ray(camera, u + 1, v, cos_half_fov, &next) ? float((next - ray).norm())
-                                                                                  : 0.01f;
+                                : lens_ray(camera, u + 1, v, cos_half_fov, &next)
+                                    ? float((next - ray).norm())
+                                    : 0.01f;
       store(scene, {origin, rotation * ray.cast<float>()}, pixel_angle, u, v, &out);
       prev = ray;
       has_prev = true;

@@ -12,14 +12,15 @@
 namespace omnisweep::synthetic {
 
 struct RenderedImage {
-  Rgb8Image rgb;                // RGB, black outside the lens circle
-  FloatImage inverse_distance;  // 1 / Euclidean distance (m^-1) from the projection centre; 0 where no ray
+  Rgb8Image rgb;  // RGB, black outside the lens circle
+  FloatImage
+      inverse_distance;  // 1 / Euclidean distance (m^-1) from the projection centre; 0 where no ray
 };
 
 // Pixels whose ray is more than `lens_half_fov` radians off the optical axis see no light
 // (outside the lens' image circle), as on a real fisheye sensor.
-RenderedImage render_camera(const Scene& scene, const RigCamera& camera, const Rigid3d& world_from_rig,
-                            double lens_half_fov);
+RenderedImage render_camera(const Scene& scene, const RigCamera& camera,
+                            const Rigid3d& world_from_rig, double lens_half_fov);
 
 // Panorama of width x height seen from `viewpoint_in_rig`, axes aligned with the rig frame.
 RenderedImage render_panorama(const Scene& scene, const Rigid3d& world_from_rig,

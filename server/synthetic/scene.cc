@@ -19,7 +19,9 @@ class Random {
     z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
     return z ^ (z >> 31);
   }
-  float uniform(float lo, float hi) { return lo + (hi - lo) * float(next() >> 40) / float(1 << 24); }
+  float uniform(float lo, float hi) {
+    return lo + (hi - lo) * float(next() >> 40) / float(1 << 24);
+  }
   int index(int n) { return int(next() % std::uint64_t(n)); }
 
  private:
@@ -27,10 +29,14 @@ class Random {
 };
 
 Eigen::Vector3f hsv(float h, float s, float v) {
-  const float c = v * s, hp = std::fmod(h, 1.0f) * 6.0f, x = c * (1 - std::abs(std::fmod(hp, 2.0f) - 1));
-  Eigen::Vector3f rgb = hp < 1 ? Eigen::Vector3f(c, x, 0) : hp < 2 ? Eigen::Vector3f(x, c, 0)
-                      : hp < 3 ? Eigen::Vector3f(0, c, x) : hp < 4 ? Eigen::Vector3f(0, x, c)
-                      : hp < 5 ? Eigen::Vector3f(x, 0, c) : Eigen::Vector3f(c, 0, x);
+  const float c = v * s, hp = std::fmod(h, 1.0f) * 6.0f,
+              x = c * (1 - std::abs(std::fmod(hp, 2.0f) - 1));
+  Eigen::Vector3f rgb = hp < 1   ? Eigen::Vector3f(c, x, 0)
+                        : hp < 2 ? Eigen::Vector3f(x, c, 0)
+                        : hp < 3 ? Eigen::Vector3f(0, c, x)
+                        : hp < 4 ? Eigen::Vector3f(0, x, c)
+                        : hp < 5 ? Eigen::Vector3f(x, 0, c)
+                                 : Eigen::Vector3f(c, 0, x);
   return rgb + Eigen::Vector3f::Constant(v - c);
 }
 
@@ -73,7 +79,8 @@ void intersect_box(const Ray& r, const Box& b, Hit* hit) {
   const Eigen::Vector3f o(c * d0.x() - s * d0.z(), d0.y(), s * d0.x() + c * d0.z());
   const Eigen::Vector3f d(c * r.direction.x() - s * r.direction.z(), r.direction.y(),
                           s * r.direction.x() + c * r.direction.z());
-  float t_near = -std::numeric_limits<float>::infinity(), t_far = std::numeric_limits<float>::infinity();
+  float t_near = -std::numeric_limits<float>::infinity(),
+        t_far = std::numeric_limits<float>::infinity();
   int axis = 0;
   float sign = 1;
   for (int i = 0; i < 3; ++i) {
@@ -94,7 +101,8 @@ void intersect_box(const Ray& r, const Box& b, Hit* hit) {
   if (t_near > t_far || t_near <= kEpsilon || t_near >= hit->t) return;
   Eigen::Vector3f n_local = Eigen::Vector3f::Zero();
   n_local[axis] = sign;
-  const Eigen::Vector3f n(c * n_local.x() + s * n_local.z(), n_local.y(), -s * n_local.x() + c * n_local.z());
+  const Eigen::Vector3f n(c * n_local.x() + s * n_local.z(), n_local.y(),
+                          -s * n_local.x() + c * n_local.z());
   keep_nearest(t_near, n, b.material, hit);
 }
 
@@ -128,8 +136,9 @@ void intersect_room(const Ray& r, const Room& room, Hit* hit) {
   }
   Eigen::Vector3f n = Eigen::Vector3f::Zero();
   n[axis] = r.direction[axis] > 0 ? -1.0f : 1.0f;
-  const int material = axis != 1 ? room.wall_material
-                       : r.direction.y() > 0 ? room.floor_material : room.ceiling_material;
+  const int material = axis != 1             ? room.wall_material
+                       : r.direction.y() > 0 ? room.floor_material
+                                             : room.ceiling_material;
   keep_nearest(t_exit, n, material, hit);
 }
 
@@ -141,21 +150,26 @@ float distance_to_path(const Eigen::Vector3f& p, const std::vector<Eigen::Vector
 
 }  // namespace
 
-Scene Scene::hall(std::uint64_t seed, const std::vector<Eigen::Vector3f>& keep_clear, float clearance,
-                  float near_distance) {
+Scene Scene::hall(std::uint64_t seed, const std::vector<Eigen::Vector3f>& keep_clear,
+                  float clearance, float near_distance) {
   Random rng(seed);
   Scene s;
   // A hall up to about 25 m x 21 m x 4.5 m: the far corners stay within 20 m of the rig's path.
-  s.room_.min = Eigen::Vector3f(rng.uniform(-10.5f, -9.0f), rng.uniform(-3.4f, -2.6f), rng.uniform(-7.5f, -6.0f));
-  s.room_.max = Eigen::Vector3f(rng.uniform(9.5f, 11.0f), rng.uniform(1.3f, 1.6f), rng.uniform(12.5f, 14.0f));
+  s.room_.min = Eigen::Vector3f(rng.uniform(-10.5f, -9.0f), rng.uniform(-3.4f, -2.6f),
+                                rng.uniform(-7.5f, -6.0f));
+  s.room_.max =
+      Eigen::Vector3f(rng.uniform(9.5f, 11.0f), rng.uniform(1.3f, 1.6f), rng.uniform(12.5f, 14.0f));
   auto add_material = [&](Material m) {
     s.materials_.push_back(m);
     return int(s.materials_.size()) - 1;
   };
-  s.room_.wall_material = add_material(random_material(rng, Pattern::kBlotches, rng.uniform(0.8f, 1.4f)));
-  s.room_.floor_material = add_material(random_material(rng, Pattern::kTiles, rng.uniform(0.5f, 0.8f)));
+  s.room_.wall_material =
+      add_material(random_material(rng, Pattern::kBlotches, rng.uniform(0.8f, 1.4f)));
+  s.room_.floor_material =
+      add_material(random_material(rng, Pattern::kTiles, rng.uniform(0.5f, 0.8f)));
   s.room_.ceiling_material = add_material(random_material(rng, Pattern::kPlain, 1.0f));
-  s.light_ = Eigen::Vector3f(0.5f * (s.room_.min.x() + s.room_.max.x()), s.room_.min.y() + 0.3f, 2.0f);
+  s.light_ =
+      Eigen::Vector3f(0.5f * (s.room_.min.x() + s.room_.max.x()), s.room_.min.y() + 0.3f, 2.0f);
 
   const Pattern object_patterns[] = {Pattern::kNoise, Pattern::kStripes, Pattern::kNoise,
                                      Pattern::kTiles, Pattern::kPlain};
@@ -170,7 +184,8 @@ Scene Scene::hall(std::uint64_t seed, const std::vector<Eigen::Vector3f>& keep_c
       if (Eigen::Vector2f(c.x() - q.x(), c.z() - q.z()).norm() < radius + clearance) return false;
     }
     for (const auto& p : placed) {
-      if (Eigen::Vector2f(c.x() - p.x(), c.z() - p.y()).norm() < radius + p.z() + 0.1f) return false;
+      if (Eigen::Vector2f(c.x() - p.x(), c.z() - p.y()).norm() < radius + p.z() + 0.1f)
+        return false;
     }
     return true;
   };
@@ -178,9 +193,10 @@ Scene Scene::hall(std::uint64_t seed, const std::vector<Eigen::Vector3f>& keep_c
     for (int attempt = 0; attempt < 200; ++attempt) {
       // Half the objects within 4 m of the start, the rest anywhere in the hall.
       const bool near = rng.index(2) == 0;
-      const Eigen::Vector3f c = near ? Eigen::Vector3f(rng.uniform(-4, 4), 0, rng.uniform(-4, 4))
-                                     : Eigen::Vector3f(rng.uniform(s.room_.min.x(), s.room_.max.x()), 0,
-                                                       rng.uniform(s.room_.min.z(), s.room_.max.z()));
+      const Eigen::Vector3f c =
+          near ? Eigen::Vector3f(rng.uniform(-4, 4), 0, rng.uniform(-4, 4))
+               : Eigen::Vector3f(rng.uniform(s.room_.min.x(), s.room_.max.x()), 0,
+                                 rng.uniform(s.room_.min.z(), s.room_.max.z()));
       if (fits(c, radius)) {
         placed.emplace_back(c.x(), c.z(), radius, 0);
         make(c);
@@ -190,8 +206,10 @@ Scene Scene::hall(std::uint64_t seed, const std::vector<Eigen::Vector3f>& keep_c
   };
   const float floor_y = s.room_.max.y();
   for (int i = 0; i < 8; ++i) {
-    const Eigen::Vector3f half(rng.uniform(0.15f, 0.8f), rng.uniform(0.15f, 1.1f), rng.uniform(0.15f, 0.8f));
-    const int mat = add_material(random_material(rng, object_patterns[rng.index(5)], rng.uniform(0.15f, 0.5f)));
+    const Eigen::Vector3f half(rng.uniform(0.15f, 0.8f), rng.uniform(0.15f, 1.1f),
+                               rng.uniform(0.15f, 0.8f));
+    const int mat =
+        add_material(random_material(rng, object_patterns[rng.index(5)], rng.uniform(0.15f, 0.5f)));
     const float yaw = rng.uniform(0, 3.14159f);
     place(std::hypot(half.x(), half.z()), [&](const Eigen::Vector3f& c) {
       s.boxes_.push_back({Eigen::Vector3f(c.x(), floor_y - half.y(), c.z()), half, yaw, mat});
@@ -200,7 +218,8 @@ Scene Scene::hall(std::uint64_t seed, const std::vector<Eigen::Vector3f>& keep_c
   for (int i = 0; i < 5; ++i) {
     const float radius = rng.uniform(0.15f, 0.7f);
     const float lift = rng.index(2) ? 0.0f : rng.uniform(0.3f, 1.5f);
-    const int mat = add_material(random_material(rng, object_patterns[rng.index(4)], rng.uniform(0.1f, 0.35f)));
+    const int mat =
+        add_material(random_material(rng, object_patterns[rng.index(4)], rng.uniform(0.1f, 0.35f)));
     place(radius, [&](const Eigen::Vector3f& c) {
       s.spheres_.push_back({Eigen::Vector3f(c.x(), floor_y - radius - lift, c.z()), radius, mat});
     });
@@ -208,7 +227,9 @@ Scene Scene::hall(std::uint64_t seed, const std::vector<Eigen::Vector3f>& keep_c
   for (int i = 0; i < 6; ++i) {
     const float radius = rng.uniform(0.025f, 0.06f);
     const int mat = add_material(random_material(rng, Pattern::kStripes, rng.uniform(0.1f, 0.3f)));
-    place(radius, [&](const Eigen::Vector3f& c) { s.poles_.push_back({c.x(), c.z(), radius, mat}); });
+    place(radius, [&](const Eigen::Vector3f& c) {
+      s.poles_.push_back({c.x(), c.z(), radius, mat});
+    });
   }
   // One near sphere below and behind the start of the path (the path itself runs forward).
   if (!keep_clear.empty()) {

@@ -3,10 +3,9 @@
 // World frame: metres, y down (like the cameras), the floor at y = room.max.y.
 #pragma once
 
+#include <Eigen/Core>
 #include <cstdint>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "server/synthetic/procedural_texture.h"
 
@@ -18,7 +17,7 @@ struct Ray {
 };
 
 struct Hit {
-  float t = 0.0f;  // distance along the ray, metres
+  float t = 0.0f;                                    // distance along the ray, metres
   Eigen::Vector3f normal = Eigen::Vector3f::Zero();  // unit, facing the ray
   int material = 0;
 };

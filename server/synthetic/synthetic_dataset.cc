@@ -7,9 +7,12 @@
 namespace omnisweep::synthetic {
 
 WriteDatasetStats write_synthetic_dataset(const SyntheticRig& rig, const std::filesystem::path& dir,
-                             const WriteDatasetOptions& options, const std::function<void(int, int)>& progress) {
+                                          const WriteDatasetOptions& options,
+                                          const std::function<void(int, int)>& progress) {
   using Clock = std::chrono::steady_clock;
-  auto seconds_since = [](Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); };
+  auto seconds_since = [](Clock::time_point t) {
+    return std::chrono::duration<double>(Clock::now() - t).count();
+  };
   WriteDatasetStats stats;
   auto t = Clock::now();
   const DatasetWriter writer(dir, rig.rig());

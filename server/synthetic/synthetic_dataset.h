@@ -24,7 +24,7 @@ struct WriteDatasetStats {
   double write_seconds = 0;   // PNG and EXR encoding and writing, all frames
 };
 WriteDatasetStats write_synthetic_dataset(const SyntheticRig& rig, const std::filesystem::path& dir,
-                             const WriteDatasetOptions& options,
-                             const std::function<void(int, int)>& progress = {});
+                                          const WriteDatasetOptions& options,
+                                          const std::function<void(int, int)>& progress = {});
 
 }  // namespace omnisweep::synthetic

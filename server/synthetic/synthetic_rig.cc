@@ -18,14 +18,16 @@ Eigen::Quaterniond rotation_ypr(double yaw_deg, double pitch_deg, double roll_de
 
 // Path of the rig centre: a closed loop about 2.4 m x 1.6 m, starting at the origin.
 Eigen::Vector3d path_position(double s) {
-  return {1.2 * std::sin(2 * kPi * s), 0.05 * std::sin(4 * kPi * s), 0.8 * (1 - std::cos(2 * kPi * s))};
+  return {1.2 * std::sin(2 * kPi * s), 0.05 * std::sin(4 * kPi * s),
+          0.8 * (1 - std::cos(2 * kPi * s))};
 }
 
 }  // namespace
 
 void SyntheticRigOptions::check() const {
   if (image_size < 16 || image_size > 8192) {
-    throw std::invalid_argument("image size " + std::to_string(image_size) + " must be within [16, 8192]");
+    throw std::invalid_argument("image size " + std::to_string(image_size) +
+                                " must be within [16, 8192]");
   }
   if (frames_per_loop < 1) throw std::invalid_argument("frames per loop must be >= 1");
   if (!(lens_half_fov_deg > 0 && lens_half_fov_deg <= 180)) {
@@ -51,21 +53,25 @@ Rig default_synthetic_rig(int image_size) {
     const double f = 272.0 * (1.0 + 0.004 * c);
     const double cx = 607.5 + 1.5 * (c - 1.5), cy = 607.5 - 1.0 * (c - 1.5);
     RigCamera cam;
-    cam.model = DoubleSphereCamera<double>({f, f * 0.995, cx, cy, -0.2 + 0.01 * c, 0.6 - 0.005 * c});
+    cam.model =
+        DoubleSphereCamera<double>({f, f * 0.995, cx, cy, -0.2 + 0.01 * c, 0.6 - 0.005 * c});
     cam.width = cam.height = 1216;
-    cam.rig_from_cam = Rigid3d(rotation_ypr(mounts[c].yaw, mounts[c].pitch, mounts[c].roll), mounts[c].position);
+    cam.rig_from_cam =
+        Rigid3d(rotation_ypr(mounts[c].yaw, mounts[c].pitch, mounts[c].roll), mounts[c].position);
     rig.cameras.push_back(s == 1.0 ? cam : cam.resized(image_size, image_size));
   }
   return rig;
 }
 
 SyntheticRig::SyntheticRig(const SyntheticRigOptions& options, const Rig* calibration)
-    : options_(options), rig_(calibration ? *calibration : default_synthetic_rig(options.image_size)) {
+    : options_(options),
+      rig_(calibration ? *calibration : default_synthetic_rig(options.image_size)) {
   options_.check();
   rig_.check();
   for (int r : options_.references) {
     if (r < 0 || r >= rig_.num_cameras()) {
-      throw std::invalid_argument("reference camera " + std::to_string(r) + " does not exist (the rig has " +
+      throw std::invalid_argument("reference camera " + std::to_string(r) +
+                                  " does not exist (the rig has " +
                                   std::to_string(rig_.num_cameras()) + " cameras)");
     }
   }
@@ -84,12 +90,14 @@ Rigid3d SyntheticRig::world_from_rig(int index) const {
   const int n = options_.frames_per_loop;
   const double s = double(((index % n) + n) % n) / n;
   const double yaw = 0.35 * std::sin(2 * kPi * s);
-  return Rigid3d(Eigen::Quaterniond(Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitY())), path_position(s));
+  return Rigid3d(Eigen::Quaterniond(Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitY())),
+                 path_position(s));
 }
 
 std::vector<Gray8Image> SyntheticRig::masks() const {
   std::vector<Gray8Image> out;
-  for (const RigCamera& cam : rig_.cameras) out.push_back(lens_mask(cam, options_.lens_half_fov_deg * kPi / 180));
+  for (const RigCamera& cam : rig_.cameras)
+    out.push_back(lens_mask(cam, options_.lens_half_fov_deg * kPi / 180));
   return out;
 }
 
@@ -97,14 +105,16 @@ SyntheticFrame SyntheticRig::render(int index, int panorama_width, int panorama_
   SyntheticFrame frame;
   frame.world_from_rig = world_from_rig(index);
   for (const RigCamera& cam : rig_.cameras) {
-    frame.cameras.push_back(render_camera(scene_, cam, frame.world_from_rig, options_.lens_half_fov_deg * kPi / 180));
+    frame.cameras.push_back(
+        render_camera(scene_, cam, frame.world_from_rig, options_.lens_half_fov_deg * kPi / 180));
   }
-  frame.panorama = render_panorama(scene_, frame.world_from_rig, viewpoint(), panorama_width, panorama_height);
+  frame.panorama =
+      render_panorama(scene_, frame.world_from_rig, viewpoint(), panorama_width, panorama_height);
   return frame;
 }
 
-RenderedImage SyntheticRig::render_panorama_at(int index, const Eigen::Vector3d& viewpoint_in_rig, int width,
-                                               int height) const {
+RenderedImage SyntheticRig::render_panorama_at(int index, const Eigen::Vector3d& viewpoint_in_rig,
+                                               int width, int height) const {
   return render_panorama(scene_, world_from_rig(index), viewpoint_in_rig, width, height);
 }
 

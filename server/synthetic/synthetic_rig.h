@@ -17,9 +17,9 @@ namespace omnisweep::synthetic {
 
 struct SyntheticRigOptions {
   std::uint64_t seed = 1;
-  int image_size = 1216;              // fisheye width = height, pixels (default calibration only)
-  int frames_per_loop = 300;          // one lap of the path (10 s at 30 fps)
-  double lens_half_fov_deg = 110.0;   // 220-degree lenses
+  int image_size = 1216;             // fisheye width = height, pixels (default calibration only)
+  int frames_per_loop = 300;         // one lap of the path (10 s at 30 fps)
+  double lens_half_fov_deg = 110.0;  // 220-degree lenses
   std::vector<int> references = {2, 3};
   // Throws std::invalid_argument naming the bad option.
   void check() const;

@@ -2,12 +2,12 @@
 // and cover what the depth tests need: 0.6-20 m, plain and textured areas, thin structures.
 #include "server/synthetic/synthetic_rig.h"
 
+#include <gtest/gtest.h>
+
 #include <algorithm>
 #include <cmath>
 #include <iostream>
 #include <numeric>
-
-#include <gtest/gtest.h>
 
 #include "omnisweep/dataset/dataset.h"
 #include "omnisweep/geometry/equirectangular.h"
@@ -28,8 +28,11 @@ SyntheticRig small_rig(std::uint64_t seed = 1) {
 float bilinear(const Rgb8Image& im, double u, double v, int c) {
   const int x0 = int(std::floor(u)), y0 = int(std::floor(v));
   const double fx = u - x0, fy = v - y0;
-  auto at = [&](int x, int y) { return double(im(std::clamp(x, 0, im.width() - 1), std::clamp(y, 0, im.height() - 1), c)); };
-  return float((1 - fy) * ((1 - fx) * at(x0, y0) + fx * at(x0 + 1, y0)) + fy * ((1 - fx) * at(x0, y0 + 1) + fx * at(x0 + 1, y0 + 1)));
+  auto at = [&](int x, int y) {
+    return double(im(std::clamp(x, 0, im.width() - 1), std::clamp(y, 0, im.height() - 1), c));
+  };
+  return float((1 - fy) * ((1 - fx) * at(x0, y0) + fx * at(x0 + 1, y0)) +
+               fy * ((1 - fx) * at(x0, y0 + 1) + fx * at(x0 + 1, y0 + 1)));
 }
 
 double percentile(std::vector<float> v, double q) {
@@ -65,15 +68,17 @@ TEST(SyntheticRig, GroundTruthPanoramaAgreesWithEveryCamera) {
         if (std::abs(1.0 / cam_inv - x_in_cam.norm()) > 0.02 * x_in_cam.norm()) continue;
         ++same_surface;
         float err = 0;
-        for (int k = 0; k < 3; ++k) err += std::abs(bilinear(frame.cameras[c].rgb, uv.x(), uv.y(), k) - frame.panorama.rgb(x, y, k));
+        for (int k = 0; k < 3; ++k)
+          err += std::abs(bilinear(frame.cameras[c].rgb, uv.x(), uv.y(), k) -
+                          frame.panorama.rgb(x, y, k));
         colour_error.push_back(err / 3);
       }
     }
     const double visible = double(same_surface) / double(inside);
     const double median = percentile(colour_error, 0.5), p90 = percentile(colour_error, 0.9);
-    std::cout << "camera " << c << ": " << inside << " panorama points inside the lens, " << 100 * visible
-              << " % on the same surface; colour error median " << median << ", 90th percentile " << p90
-              << " levels\n";
+    std::cout << "camera " << c << ": " << inside << " panorama points inside the lens, "
+              << 100 * visible << " % on the same surface; colour error median " << median
+              << ", 90th percentile " << p90 << " levels\n";
     // Occlusion between the viewpoint and a camera a few cm away hides only a few percent.
     EXPECT_GT(visible, 0.95);
     EXPECT_LT(median, 2.0);
@@ -85,7 +90,8 @@ TEST(SyntheticRig, DistancesSpanTheRequiredRange) {
   const SyntheticRig rig = small_rig();
   for (int index : {0, 75, 150, 225}) {
     const RenderedImage pano = rig.render_panorama_at(index, rig.viewpoint(), 512, 256);
-    const auto [lo, hi] = std::minmax_element(pano.inverse_distance.pixels().begin(), pano.inverse_distance.pixels().end());
+    const auto [lo, hi] = std::minmax_element(pano.inverse_distance.pixels().begin(),
+                                              pano.inverse_distance.pixels().end());
     const double nearest = 1.0 / *hi, farthest = 1.0 / *lo;
     std::cout << "frame " << index << ": distances " << nearest << " .. " << farthest << " m\n";
     EXPECT_GE(nearest, 0.6);
@@ -119,13 +125,18 @@ TEST(SyntheticRig, SceneHasPlainAndTexturedAreasAndThinPoles) {
       ++total;
     }
   }
-  std::cout << "plain " << 100.0 * plain / total << " %, textured " << 100.0 * textured / total << " %\n";
+  std::cout << "plain " << 100.0 * plain / total << " %, textured " << 100.0 * textured / total
+            << " %\n";
   EXPECT_GT(double(plain) / total, 0.10);
   EXPECT_GT(double(textured) / total, 0.25);
 }
 
 TEST(SyntheticRig, DeterministicForASeed) {
-  auto checksum = [](const Rgb8Image& im) { return std::accumulate(im.pixels().begin(), im.pixels().end(), std::uint64_t(0), [](std::uint64_t h, std::uint8_t v) { return h * 1099511628211ull ^ v; }); };
+  auto checksum = [](const Rgb8Image& im) {
+    return std::accumulate(
+        im.pixels().begin(), im.pixels().end(), std::uint64_t(0),
+        [](std::uint64_t h, std::uint8_t v) { return h * 1099511628211ull ^ v; });
+  };
   const SyntheticRig a = small_rig(5), b = small_rig(5), c = small_rig(6);
   const Rgb8Image ia = render_camera(a.scene(), a.rig().cameras[2], a.world_from_rig(3), 1.9).rgb;
   const Rgb8Image ib = render_camera(b.scene(), b.rig().cameras[2], b.world_from_rig(3), 1.9).rgb;
@@ -153,7 +164,9 @@ TEST(SyntheticRig, WritesADatasetInTheReferenceLayout) {
   SyntheticRigOptions options;
   options.image_size = 96;
   const SyntheticRig rig(options);
-  write_synthetic_dataset(rig, dir.path(), {.first_frame = 4, .num_frames = 2, .panorama_width = 64, .panorama_height = 32});
+  write_synthetic_dataset(
+      rig, dir.path(),
+      {.first_frame = 4, .num_frames = 2, .panorama_width = 64, .panorama_height = 32});
   const Dataset ds = Dataset::open(dir.path());
   EXPECT_EQ(ds.frames(), (std::vector<std::string>{"4", "5"}));
   ASSERT_EQ(ds.masks().size(), 4u);

@@ -1,11 +1,10 @@
 // omnisweep-synth: renders frames of the synthetic rig with exact ground truth and writes them
 // as a dataset in the reference layout, plus a colourised inverse-distance preview.
+#include <CLI/CLI.hpp>
 #include <cstdio>
 #include <exception>
 #include <string>
 #include <vector>
-
-#include <CLI/CLI.hpp>
 
 #include "omnisweep/image/image_io.h"
 #include "omnisweep/rig/basalt_calibration.h"
@@ -18,8 +17,9 @@ using omnisweep::synthetic::SyntheticRigOptions;
 using omnisweep::synthetic::WriteDatasetOptions;
 
 int run(int argc, char** argv) {
-  CLI::App app{"Render frames of the synthetic four-fisheye rig, with exact ground truth, as a dataset "
-               "in the reference layout (calibration.json, cam<i>/, gt/)."};
+  CLI::App app{
+      "Render frames of the synthetic four-fisheye rig, with exact ground truth, as a dataset "
+      "in the reference layout (calibration.json, cam<i>/, gt/)."};
   std::string output, calibration;
   SyntheticRigOptions rig_options;
   WriteDatasetOptions write;
@@ -29,23 +29,27 @@ int run(int argc, char** argv) {
   app.add_option("--first-frame", write.first_frame, "Index of the first frame on the rig's path")
       ->check(CLI::NonNegativeNumber);
   app.add_option("--seed", rig_options.seed, "Scene seed (same seed, same scene)");
-  app.add_option("--image-size", rig_options.image_size, "Fisheye width and height of the default rig")
+  app.add_option("--image-size", rig_options.image_size,
+                 "Fisheye width and height of the default rig")
       ->check(CLI::Range(16, 8192));
   app.add_option("--calibration", calibration, "Render through this basalt calibration instead")
       ->check(CLI::ExistingFile);
   app.add_option("--panorama", panorama, "Ground-truth panorama width and height")
       ->expected(2)
       ->check(CLI::Range(8, 16384));
-  app.add_option("--references", rig_options.references, "Reference cameras; the viewpoint is their mean")
+  app.add_option("--references", rig_options.references,
+                 "Reference cameras; the viewpoint is their mean")
       ->expected(1, 16);
-  app.add_option("--frames-per-loop", rig_options.frames_per_loop, "Frames in one lap of the rig's path")
+  app.add_option("--frames-per-loop", rig_options.frames_per_loop,
+                 "Frames in one lap of the rig's path")
       ->check(CLI::PositiveNumber);
-  app.add_option("--lens-fov", rig_options.lens_half_fov_deg, "Half field of view of the lenses, degrees")
+  app.add_option("--lens-fov", rig_options.lens_half_fov_deg,
+                 "Half field of view of the lenses, degrees")
       ->check(CLI::Range(1.0, 180.0));
   CLI11_PARSE(app, argc, argv);
   if (panorama[0] != 2 * panorama[1]) {
-    std::fprintf(stderr, "omnisweep-synth: --panorama %d %d: width must be twice the height\n", panorama[0],
-                 panorama[1]);
+    std::fprintf(stderr, "omnisweep-synth: --panorama %d %d: width must be twice the height\n",
+                 panorama[0], panorama[1]);
     return 2;
   }
   write.panorama_width = panorama[0];
@@ -64,19 +68,24 @@ int run(int argc, char** argv) {
   const std::string last = std::to_string(write.first_frame + write.num_frames - 1);
   const std::filesystem::path preview = std::filesystem::path(output) / "preview";
   std::filesystem::create_directories(preview);
-  const auto inv = omnisweep::read_exr(std::filesystem::path(output) / "gt" / ("inv_distance_" + last + ".exr"));
+  const auto inv =
+      omnisweep::read_exr(std::filesystem::path(output) / "gt" / ("inv_distance_" + last + ".exr"));
   omnisweep::write_png(preview / ("inv_distance_" + last + ".png"),
                        omnisweep::colorize_inverse_distance(inv, 1.0f / 0.55f));
 
   const auto& cam = rig.rig().cameras[0];
-  std::printf("rendered %d frame(s) of %d x %dx%d fisheye images and a %dx%d panorama: %.2f s per frame "
-              "(ray casting %.2f s, writing files %.2f s)\n",
-              write.num_frames, rig.rig().num_cameras(), cam.width, cam.height, write.panorama_width,
-              write.panorama_height, (stats.render_seconds + stats.write_seconds) / write.num_frames,
-              stats.render_seconds / write.num_frames, stats.write_seconds / write.num_frames);
+  std::printf(
+      "rendered %d frame(s) of %d x %dx%d fisheye images and a %dx%d panorama: %.2f s per frame "
+      "(ray casting %.2f s, writing files %.2f s)\n",
+      write.num_frames, rig.rig().num_cameras(), cam.width, cam.height, write.panorama_width,
+      write.panorama_height, (stats.render_seconds + stats.write_seconds) / write.num_frames,
+      stats.render_seconds / write.num_frames, stats.write_seconds / write.num_frames);
   std::printf("dataset:   %s\n", std::filesystem::absolute(output).c_str());
-  std::printf("panorama:  %s\n", std::filesystem::absolute(std::filesystem::path(output) / "gt" / ("rgb_" + last + ".png")).c_str());
-  std::printf("distance:  %s\n", std::filesystem::absolute(preview / ("inv_distance_" + last + ".png")).c_str());
+  std::printf("panorama:  %s\n", std::filesystem::absolute(std::filesystem::path(output) / "gt" /
+                                                           ("rgb_" + last + ".png"))
+                                     .c_str());
+  std::printf("distance:  %s\n",
+              std::filesystem::absolute(preview / ("inv_distance_" + last + ".png")).c_str());
   return 0;
 }
 

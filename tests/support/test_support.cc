@@ -1,5 +1,6 @@
 #include "tests/support/test_support.h"
 
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <array>
@@ -9,7 +10,6 @@
 #include <random>
 #include <sstream>
 #include <stdexcept>
-#include <sys/wait.h>
 
 namespace omnisweep::testing {
 namespace fs = std::filesystem;
@@ -38,14 +38,16 @@ fs::path bin_dir() { return from_env("OMNISWEEP_BIN_DIR", OMNISWEEP_DEFAULT_BIN_
 ScratchDir::ScratchDir(const std::string& prefix) {
   std::random_device rd;
   for (int attempt = 0; attempt < 100; ++attempt) {
-    const fs::path candidate = fs::temp_directory_path() /
-                               (prefix + "-" + std::to_string(::getpid()) + "-" + std::to_string(rd()));
+    const fs::path candidate =
+        fs::temp_directory_path() /
+        (prefix + "-" + std::to_string(::getpid()) + "-" + std::to_string(rd()));
     if (fs::create_directory(candidate)) {
       path_ = candidate;
       return;
     }
   }
-  throw std::runtime_error("cannot create a scratch folder in " + fs::temp_directory_path().string());
+  throw std::runtime_error("cannot create a scratch folder in " +
+                           fs::temp_directory_path().string());
 }
 
 ScratchDir::~ScratchDir() {
@@ -71,7 +73,8 @@ int run_command(const std::string& command, std::string* output) {
   if (!pipe) return -1;
   std::array<char, 4096> buffer{};
   std::size_t n;
-  while ((n = std::fread(buffer.data(), 1, buffer.size(), pipe)) > 0) output->append(buffer.data(), n);
+  while ((n = std::fread(buffer.data(), 1, buffer.size(), pipe)) > 0)
+    output->append(buffer.data(), n);
   const int status = ::pclose(pipe);
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }

@@ -2,12 +2,12 @@
 // over random valid parameters, validity reporting without NaN, FOV and rescaling.
 #include "omnisweep/camera/camera_model.h"
 
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <iostream>
 #include <numbers>
 #include <random>
-
-#include <gtest/gtest.h>
 
 #include "omnisweep/rig/basalt_calibration.h"
 #include "tests/support/test_support.h"
@@ -93,7 +93,9 @@ TEST(CameraModel, KaistRigFieldOfView) {
 
 // Random valid parameters per model (seeded), with the first four in a 1024 x 1024 image.
 CameraModel<double> random_camera(std::string_view name, std::mt19937_64& rng) {
-  auto uni = [&](double lo, double hi) { return std::uniform_real_distribution<double>(lo, hi)(rng); };
+  auto uni = [&](double lo, double hi) {
+    return std::uniform_real_distribution<double>(lo, hi)(rng);
+  };
   std::vector<double> p = {uni(150, 600), uni(150, 600), uni(400, 624), uni(400, 624)};
   if (name == "ds") {
     p.insert(p.end(), {uni(-0.6, 0.9), uni(0.05, 0.95)});

@@ -18,22 +18,27 @@ constexpr std::array<std::string_view, 10> kImageExtensions = {
 
 bool is_image_file(const fs::path& p) {
   std::string ext = p.extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return std::tolower(c); });
   return std::ranges::find(kImageExtensions, ext) != kImageExtensions.end();
 }
 
-fs::path camera_dir(const fs::path& root, int camera) { return root / ("cam" + std::to_string(camera)); }
+fs::path camera_dir(const fs::path& root, int camera) {
+  return root / ("cam" + std::to_string(camera));
+}
 
 // The one image file of `frame` in a camera folder; throws DatasetError when missing or ambiguous.
 fs::path find_frame_image(const fs::path& dir, const std::string& frame) {
   std::vector<fs::path> found;
   for (std::string_view ext : kImageExtensions) {
     std::string upper(ext);
-    std::transform(upper.begin(), upper.end(), upper.begin(), [](unsigned char c) { return std::toupper(c); });
+    std::transform(upper.begin(), upper.end(), upper.begin(),
+                   [](unsigned char c) { return std::toupper(c); });
     for (const std::string& e : {std::string(ext), upper}) {
       const fs::path p = dir / (frame + e);
       std::error_code ec;
-      if (fs::is_regular_file(p, ec) && std::ranges::find(found, p) == found.end()) found.push_back(p);
+      if (fs::is_regular_file(p, ec) && std::ranges::find(found, p) == found.end())
+        found.push_back(p);
     }
   }
   if (found.empty()) throw DatasetError((dir / frame).string() + ".*: image is missing");
@@ -49,7 +54,8 @@ fs::path find_frame_image(const fs::path& dir, const std::string& frame) {
 bool natural_less(const std::string& a, const std::string& b) {
   std::size_t i = 0, j = 0;
   while (i < a.size() && j < b.size()) {
-    if (std::isdigit(static_cast<unsigned char>(a[i])) && std::isdigit(static_cast<unsigned char>(b[j]))) {
+    if (std::isdigit(static_cast<unsigned char>(a[i])) &&
+        std::isdigit(static_cast<unsigned char>(b[j]))) {
       std::size_t i2 = i, j2 = j;
       while (i2 < a.size() && std::isdigit(static_cast<unsigned char>(a[i2]))) ++i2;
       while (j2 < b.size() && std::isdigit(static_cast<unsigned char>(b[j2]))) ++j2;
@@ -71,7 +77,8 @@ bool natural_less(const std::string& a, const std::string& b) {
 
 Dataset Dataset::open(const fs::path& dir) {
   std::error_code ec;
-  if (!fs::is_directory(dir, ec)) throw DatasetError(dir.string() + ": dataset folder does not exist");
+  if (!fs::is_directory(dir, ec))
+    throw DatasetError(dir.string() + ": dataset folder does not exist");
   Dataset ds;
   ds.dir_ = dir;
   ds.rig_ = read_basalt_calibration(dir / "calibration.json");
@@ -94,8 +101,8 @@ Dataset Dataset::open(const fs::path& dir) {
         Gray8Image mask = read_gray8_image(mask_path);
         const RigCamera& cam = ds.rig_.cameras[c];
         if (mask.width() != cam.width || mask.height() != cam.height) {
-          throw DatasetError(mask_path.string() + ": mask is " + std::to_string(mask.width()) + "x" +
-                             std::to_string(mask.height()) + ", calibration says " +
+          throw DatasetError(mask_path.string() + ": mask is " + std::to_string(mask.width()) +
+                             "x" + std::to_string(mask.height()) + ", calibration says " +
                              std::to_string(cam.width) + "x" + std::to_string(cam.height));
         }
         ds.masks_.emplace_back(std::move(mask));
@@ -146,7 +153,8 @@ Frame Dataset::load_frame(const std::string& name) const {
                            std::to_string(gt.rgb.width()) + "x" + std::to_string(gt.rgb.height()));
       }
       for (int c = 0; c < rig_.num_cameras(); ++c) {
-        const fs::path p = dir_ / "gt" / ("cam" + std::to_string(c)) / ("inv_distance_" + name + ".exr");
+        const fs::path p =
+            dir_ / "gt" / ("cam" + std::to_string(c)) / ("inv_distance_" + name + ".exr");
         if (fs::exists(p, ec)) {
           gt.camera_inverse_distance.emplace_back(read_exr(p));
         } else {
@@ -200,10 +208,12 @@ void DatasetWriter::write_mask(int camera, const Gray8Image& mask) const {
   write_png(camera_dir(dir_, camera) / "mask.png", mask);
 }
 
-void DatasetWriter::write_images(const std::string& name, const std::vector<Rgb8Image>& images) const {
+void DatasetWriter::write_images(const std::string& name,
+                                 const std::vector<Rgb8Image>& images) const {
   if (int(images.size()) != rig_.num_cameras()) {
-    throw DatasetError(dir_.string() + ": frame '" + name + "' has " + std::to_string(images.size()) +
-                       " images for " + std::to_string(rig_.num_cameras()) + " cameras");
+    throw DatasetError(dir_.string() + ": frame '" + name + "' has " +
+                       std::to_string(images.size()) + " images for " +
+                       std::to_string(rig_.num_cameras()) + " cameras");
   }
   for (int c = 0; c < rig_.num_cameras(); ++c) {
     write_png(camera_dir(dir_, c) / (name + ".png"), images[c], 1);

@@ -1,8 +1,8 @@
 #include "omnisweep/dataset/dataset.h"
 
-#include <fstream>
-
 #include <gtest/gtest.h>
+
+#include <fstream>
 #include <opencv2/imgcodecs.hpp>
 
 #include "omnisweep/image/image_io.h"
@@ -38,9 +38,9 @@ TEST(Dataset, ListsFramesInNaturalOrderAndSkipsBrokenOnes) {
   ScratchDir dir;
   DatasetWriter writer(dir.path(), small_rig());
   for (const char* name : {"0", "1", "2", "10", "x"}) writer.write_images(name, images(10));
-  fs::remove(dir.path() / "cam1" / "1.png");                                   // missing
-  write_png(dir.path() / "cam0" / "2.png", Rgb8Image(32, 48, 3));              // wrong size
-  std::ofstream(dir.path() / "cam1" / "x.png", std::ios::trunc) << "broken";   // unreadable
+  fs::remove(dir.path() / "cam1" / "1.png");                                  // missing
+  write_png(dir.path() / "cam0" / "2.png", Rgb8Image(32, 48, 3));             // wrong size
+  std::ofstream(dir.path() / "cam1" / "x.png", std::ios::trunc) << "broken";  // unreadable
   std::ofstream(dir.path() / "cam0" / "notes.txt") << "not an image";
 
   const Dataset ds = Dataset::open(dir.path());
@@ -54,12 +54,15 @@ TEST(Dataset, ListsFramesInNaturalOrderAndSkipsBrokenOnes) {
   EXPECT_EQ(loaded, (std::vector<std::string>{"0", "10"}));
   ASSERT_EQ(skipped.size(), 3u);
   EXPECT_EQ(skipped[0].name, "1");
-  EXPECT_NE(skipped[0].reason.find("cam1/1.*: image is missing"), std::string::npos) << skipped[0].reason;
+  EXPECT_NE(skipped[0].reason.find("cam1/1.*: image is missing"), std::string::npos)
+      << skipped[0].reason;
   EXPECT_EQ(skipped[1].name, "2");
   EXPECT_NE(skipped[1].reason.find("cam0/2.png: image is 32x48, calibration says 64x48"),
-            std::string::npos) << skipped[1].reason;
+            std::string::npos)
+      << skipped[1].reason;
   EXPECT_EQ(skipped[2].name, "x");
-  EXPECT_NE(skipped[2].reason.find("cam1/x.png: cannot decode"), std::string::npos) << skipped[2].reason;
+  EXPECT_NE(skipped[2].reason.find("cam1/x.png: cannot decode"), std::string::npos)
+      << skipped[2].reason;
   EXPECT_THROW(ds.load_frame("1"), DatasetError);
 }
 
@@ -70,8 +73,10 @@ TEST(Dataset, LoadsDeepImagesMasksAndGroundTruth) {
   mask(0, 0) = 0;
   writer.write_mask(1, mask);
   writer.write_images("a", images(3));
-  cv::imwrite((dir.path() / "cam0" / "b.png").string(), cv::Mat(48, 64, CV_16UC3, cv::Scalar(1, 2, 3)));
-  cv::imwrite((dir.path() / "cam1" / "b.tiff").string(), cv::Mat(48, 64, CV_32FC3, cv::Scalar(0.1f, 0.2f, 0.3f)),
+  cv::imwrite((dir.path() / "cam0" / "b.png").string(),
+              cv::Mat(48, 64, CV_16UC3, cv::Scalar(1, 2, 3)));
+  cv::imwrite((dir.path() / "cam1" / "b.tiff").string(),
+              cv::Mat(48, 64, CV_32FC3, cv::Scalar(0.1f, 0.2f, 0.3f)),
               {cv::IMWRITE_TIFF_COMPRESSION, 1});  // uncompressed: exact floats
   FloatImage inv(32, 16, 1, 0.25f);
   writer.write_ground_truth("a", Rgb8Image(32, 16, 3, 80), inv);
@@ -107,7 +112,8 @@ TEST(Dataset, BadFolderCalibrationOrMaskIsAnError) {
     Dataset::open(dir.path());
     FAIL();
   } catch (const DatasetError& e) {
-    EXPECT_NE(std::string(e.what()).find("cam0/mask.png: mask is 10x10"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("cam0/mask.png: mask is 10x10"), std::string::npos)
+        << e.what();
   }
   fs::remove(dir.path() / "cam0" / "mask.png");
   fs::remove_all(dir.path() / "cam1");

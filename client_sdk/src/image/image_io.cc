@@ -1,17 +1,17 @@
 #include "omnisweep/image/image_io.h"
 
-#include <algorithm>
-#include <cmath>
-#include <cstring>
-#include <system_error>
-
 #include <ImfChannelList.h>
 #include <ImfFrameBuffer.h>
 #include <ImfHeader.h>
 #include <ImfInputFile.h>
 #include <ImfOutputFile.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
+#include <system_error>
 
 namespace omnisweep {
 namespace {
@@ -28,7 +28,8 @@ void require_readable_file(const std::filesystem::path& path) {
 
 bool is_exr(const std::filesystem::path& path) {
   std::string ext = path.extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return std::tolower(c); });
   return ext == ".exr";
 }
 
@@ -36,10 +37,17 @@ template <typename T>
 Image<T> rgb_from_mat(const cv::Mat& mat) {
   cv::Mat rgb;
   switch (mat.channels()) {
-    case 1: cv::cvtColor(mat, rgb, cv::COLOR_GRAY2RGB); break;
-    case 3: cv::cvtColor(mat, rgb, cv::COLOR_BGR2RGB); break;
-    case 4: cv::cvtColor(mat, rgb, cv::COLOR_BGRA2RGB); break;
-    default: break;
+    case 1:
+      cv::cvtColor(mat, rgb, cv::COLOR_GRAY2RGB);
+      break;
+    case 3:
+      cv::cvtColor(mat, rgb, cv::COLOR_BGR2RGB);
+      break;
+    case 4:
+      cv::cvtColor(mat, rgb, cv::COLOR_BGRA2RGB);
+      break;
+    default:
+      break;
   }
   Image<T> out(mat.cols, mat.rows, 3);
   for (int y = 0; y < mat.rows; ++y) {
@@ -62,10 +70,12 @@ std::vector<FloatImage> read_exr_channels(const std::filesystem::path& path,
     std::vector<FloatImage> out;
     Imf::FrameBuffer buffer;
     for (const std::string& name : names) {
-      if (!file.header().channels().findChannel(name)) fail(path, "EXR has no channel '" + name + "'");
+      if (!file.header().channels().findChannel(name))
+        fail(path, "EXR has no channel '" + name + "'");
       out.emplace_back(width, height, 1);
-      char* origin = reinterpret_cast<char*>(out.back().data()) -
-                     (std::ptrdiff_t(window.min.y) * width + window.min.x) * std::ptrdiff_t(sizeof(float));
+      char* origin =
+          reinterpret_cast<char*>(out.back().data()) -
+          (std::ptrdiff_t(window.min.y) * width + window.min.x) * std::ptrdiff_t(sizeof(float));
       buffer.insert(name, Imf::Slice(Imf::FLOAT, origin, sizeof(float), sizeof(float) * width));
     }
     file.setFrameBuffer(buffer);
@@ -114,10 +124,14 @@ AnyImage read_color_image(const std::filesystem::path& path) {
     fail(path, "unsupported channel count " + std::to_string(mat.channels()));
   }
   switch (mat.depth()) {
-    case CV_8U: return rgb_from_mat<std::uint8_t>(mat);
-    case CV_16U: return rgb_from_mat<std::uint16_t>(mat);
-    case CV_32F: return rgb_from_mat<float>(mat);
-    default: fail(path, "unsupported sample type (expected 8-bit, 16-bit or float)");
+    case CV_8U:
+      return rgb_from_mat<std::uint8_t>(mat);
+    case CV_16U:
+      return rgb_from_mat<std::uint16_t>(mat);
+    case CV_32F:
+      return rgb_from_mat<float>(mat);
+    default:
+      fail(path, "unsupported sample type (expected 8-bit, 16-bit or float)");
   }
 }
 
@@ -135,13 +149,16 @@ FloatImage read_exr(const std::filesystem::path& path) {
   const auto names = exr_channel_names(path);
   const bool has_y = std::ranges::find(names, "Y") != names.end();
   if (!has_y && names.size() != 1) {
-    fail(path, "expected a single-channel EXR (channel 'Y'), found " + std::to_string(names.size()) + " channels");
+    fail(path, "expected a single-channel EXR (channel 'Y'), found " +
+                   std::to_string(names.size()) + " channels");
   }
   return std::move(read_exr_channels(path, {has_y ? std::string("Y") : names[0]})[0]);
 }
 
-void write_png(const std::filesystem::path& path, const Image<std::uint8_t>& image, int compression) {
-  if (image.channels() != 1 && image.channels() != 3) fail(path, "PNG writer takes 1 or 3 channels");
+void write_png(const std::filesystem::path& path, const Image<std::uint8_t>& image,
+               int compression) {
+  if (image.channels() != 1 && image.channels() != 3)
+    fail(path, "PNG writer takes 1 or 3 channels");
   cv::Mat wrapped(image.height(), image.width(), CV_8UC(image.channels()),
                   const_cast<std::uint8_t*>(image.data()));
   cv::Mat bgr;
@@ -167,8 +184,9 @@ void write_exr(const std::filesystem::path& path, const FloatImage& image) {
     header.compression() = Imf::ZIP_COMPRESSION;
     Imf::OutputFile file(path.c_str(), header);
     Imf::FrameBuffer buffer;
-    buffer.insert("Y", Imf::Slice(Imf::FLOAT, const_cast<char*>(reinterpret_cast<const char*>(image.data())),
-                                  sizeof(float), sizeof(float) * image.width()));
+    buffer.insert(
+        "Y", Imf::Slice(Imf::FLOAT, const_cast<char*>(reinterpret_cast<const char*>(image.data())),
+                        sizeof(float), sizeof(float) * image.width()));
     file.setFrameBuffer(buffer);
     file.writePixels(image.height());
   } catch (const std::exception& e) {
@@ -176,7 +194,8 @@ void write_exr(const std::filesystem::path& path, const FloatImage& image) {
   }
 }
 
-Rgb8Image colorize_inverse_distance(const FloatImage& inverse_distance, float max_inverse_distance) {
+Rgb8Image colorize_inverse_distance(const FloatImage& inverse_distance,
+                                    float max_inverse_distance) {
   cv::Mat levels(inverse_distance.height(), inverse_distance.width(), CV_8UC1);
   cv::Mat valid(levels.size(), CV_8UC1);
   for (int y = 0; y < levels.rows; ++y) {

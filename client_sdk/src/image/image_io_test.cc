@@ -1,8 +1,8 @@
 #include "omnisweep/image/image_io.h"
 
-#include <fstream>
-
 #include <gtest/gtest.h>
+
+#include <fstream>
 #include <opencv2/imgcodecs.hpp>
 
 #include "tests/support/test_support.h"

@@ -1,8 +1,8 @@
 #include "omnisweep/image/image.h"
 
-#include <cmath>
-
 #include <gtest/gtest.h>
+
+#include <cmath>
 
 namespace omnisweep {
 namespace {

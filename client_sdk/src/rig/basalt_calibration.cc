@@ -2,10 +2,9 @@
 
 #include <cmath>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <sstream>
 #include <system_error>
-
-#include <nlohmann/json.hpp>
 
 #include "rig/json_path_parser.h"
 
@@ -33,7 +32,8 @@ class FieldReader {
   }
 
   const json& member(const json& object, const std::string& path, const std::string& key) const {
-    if (!object.is_object()) fail(path, std::string("expected an object, got ") + object.type_name());
+    if (!object.is_object())
+      fail(path, std::string("expected an object, got ") + object.type_name());
     const auto it = object.find(key);
     if (it == object.end()) fail(join_path(path, key), "missing");
     return *it;
@@ -79,7 +79,8 @@ Rigid3d read_pose(const FieldReader& r, const json& entry, const std::string& pa
   const double norm = q.norm();
   if (!(std::abs(norm - 1.0) <= kQuaternionNormTolerance)) {
     r.fail(path, "quaternion (qx, qy, qz, qw) has norm " + format_number(norm) +
-                     ", too far from 1 (tolerance " + format_number(kQuaternionNormTolerance) + ")");
+                     ", too far from 1 (tolerance " + format_number(kQuaternionNormTolerance) +
+                     ")");
   }
   q.normalize();
   return Rigid3d(q, t);
@@ -89,12 +90,13 @@ CameraModel<double> read_intrinsics(const FieldReader& r, const json& entry,
                                     const std::string& path) {
   const json& type = r.member(entry, path, "camera_type");
   const std::string type_path = join_path(path, "camera_type");
-  if (!type.is_string()) r.fail(type_path, std::string("expected a string, got ") + type.type_name());
+  if (!type.is_string())
+    r.fail(type_path, std::string("expected a string, got ") + type.type_name());
   const std::string name = type.get<std::string>();
   const auto names = CameraModel<double>::param_names(name);
   if (names.empty()) {
-    r.fail(type_path, "unknown camera_type '" + name + "' (known: " +
-                          CameraModel<double>::known_names() + ")");
+    r.fail(type_path, "unknown camera_type '" + name +
+                          "' (known: " + CameraModel<double>::known_names() + ")");
   }
   const std::string values_path = join_path(path, "intrinsics");
   const json& values = r.member(entry, path, "intrinsics");
@@ -128,7 +130,8 @@ Rig parse_basalt_calibration(std::string_view json_text, std::string_view source
                          std::to_string(resolutions.size()) + "; they must have one per camera");
   }
   if (poses.size() < 2) {
-    r.fail("value0.T_imu_cam", "a rig needs at least 2 cameras, found " + std::to_string(poses.size()));
+    r.fail("value0.T_imu_cam",
+           "a rig needs at least 2 cameras, found " + std::to_string(poses.size()));
   }
   Rig rig;
   for (std::size_t c = 0; c < poses.size(); ++c) {
@@ -168,8 +171,13 @@ std::string to_basalt_json(const Rig& rig) {
   for (const RigCamera& cam : rig.cameras) {
     const auto& q = cam.rig_from_cam.rotation;
     const auto& t = cam.rig_from_cam.translation;
-    poses.push_back({{"px", t.x()}, {"py", t.y()}, {"pz", t.z()}, {"qx", q.x()}, {"qy", q.y()},
-                     {"qz", q.z()}, {"qw", q.w()}});
+    poses.push_back({{"px", t.x()},
+                     {"py", t.y()},
+                     {"pz", t.z()},
+                     {"qx", q.x()},
+                     {"qy", q.y()},
+                     {"qz", q.z()},
+                     {"qw", q.w()}});
     json values = json::object();
     const auto names = cam.model.param_names();
     const auto params = cam.model.params();
@@ -194,7 +202,8 @@ void write_basalt_calibration(const Rig& rig, const std::filesystem::path& path)
   }
   std::error_code ec;
   std::filesystem::rename(tmp, path, ec);
-  if (ec) throw CalibrationError(path.string() + ": cannot write calibration file: " + ec.message());
+  if (ec)
+    throw CalibrationError(path.string() + ": cannot write calibration file: " + ec.message());
 }
 
 }  // namespace omnisweep

@@ -1,6 +1,7 @@
 #include "omnisweep/rig/basalt_calibration.h"
 
 #include <gtest/gtest.h>
+
 #include <nlohmann/json.hpp>
 
 #include "tests/support/test_support.h"
@@ -43,7 +44,8 @@ TEST(BasaltCalibration, WriteThenReadIsExact) {
     EXPECT_EQ(back.cameras[c].model.name(), rig.cameras[c].model.name());
     EXPECT_EQ(back.cameras[c].model.params(), rig.cameras[c].model.params());
     EXPECT_EQ(back.cameras[c].width, rig.cameras[c].width);
-    EXPECT_TRUE(back.cameras[c].rig_from_cam.translation == rig.cameras[c].rig_from_cam.translation);
+    EXPECT_TRUE(back.cameras[c].rig_from_cam.translation ==
+                rig.cameras[c].rig_from_cam.translation);
     EXPECT_TRUE(back.cameras[c].rig_from_cam.rotation.coeffs() ==
                 rig.cameras[c].rig_from_cam.rotation.coeffs());
   }
@@ -103,7 +105,8 @@ TEST(BasaltCalibrationErrors, MalformedJsonNamesLineAndField) {
 TEST(BasaltCalibrationErrors, UnknownCameraType) {
   json j = valid_json(2);
   j["value0"]["intrinsics"][1]["camera_type"] = "omni";
-  expect_error(j.dump(), {"value0.intrinsics[1].camera_type", "unknown camera_type 'omni'", "ds, kb4"});
+  expect_error(j.dump(),
+               {"value0.intrinsics[1].camera_type", "unknown camera_type 'omni'", "ds, kb4"});
 }
 
 TEST(BasaltCalibrationErrors, ArrayLengthsDiffer) {

@@ -3,10 +3,9 @@
 // e.g. "value0.intrinsics[2].intrinsics.fx". nlohmann's own DOM parser reports only offsets.
 #pragma once
 
+#include <nlohmann/json.hpp>
 #include <string>
 #include <string_view>
-
-#include <nlohmann/json.hpp>
 
 namespace omnisweep::json_detail {
 

@@ -36,10 +36,11 @@ void Rig::check() const {
                                   std::to_string(cam.height) + " must be positive");
     }
     if (auto issue = cam.model.check()) {
-      throw std::invalid_argument(where + std::string(cam.model.param_names()[issue->index]) +
-                                  " " + issue->problem);
+      throw std::invalid_argument(where + std::string(cam.model.param_names()[issue->index]) + " " +
+                                  issue->problem);
     }
-    if (!cam.rig_from_cam.translation.allFinite() || !cam.rig_from_cam.rotation.coeffs().allFinite() ||
+    if (!cam.rig_from_cam.translation.allFinite() ||
+        !cam.rig_from_cam.rotation.coeffs().allFinite() ||
         std::abs(cam.rig_from_cam.rotation.norm() - 1.0) > 1e-6) {
       throw std::invalid_argument(where + "pose must be finite with a unit quaternion");
     }

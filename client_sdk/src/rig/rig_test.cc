@@ -14,8 +14,9 @@ Rig two_camera_rig() {
     rig.cameras.push_back(cam);
   }
   // Camera 1 looks backwards (180 degrees about y), 6 cm behind camera 0.
-  rig.cameras[1].rig_from_cam = Rigid3d(
-      Eigen::Quaterniond(Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitY())), Eigen::Vector3d(0, 0, -0.06));
+  rig.cameras[1].rig_from_cam =
+      Rigid3d(Eigen::Quaterniond(Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitY())),
+              Eigen::Vector3d(0, 0, -0.06));
   return rig;
 }
 

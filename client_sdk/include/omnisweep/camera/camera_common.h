@@ -4,11 +4,10 @@
 // centre of the top-left pixel. Every model's first four parameters are fx, fy, cx, cy.
 #pragma once
 
+#include <Eigen/Core>
 #include <cmath>
 #include <optional>
 #include <string>
-
-#include <Eigen/Core>
 
 namespace omnisweep {
 

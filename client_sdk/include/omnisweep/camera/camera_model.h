@@ -33,8 +33,9 @@ class CameraModel {
 
   CameraModel() = default;
   template <typename Model>
-    requires std::is_constructible_v<CameraModelVariant<Scalar>, Model>
-  CameraModel(const Model& model) : model_(model) {}  // NOLINT: implicit by design
+  requires std::is_constructible_v<CameraModelVariant<Scalar>, Model> CameraModel(
+      const Model& model)
+      : model_(model) {}  // NOLINT: implicit by design
 
   // The model called `name` (basalt's camera_type) with parameters in kParamNames order.
   // Throws std::invalid_argument for an unknown name or a wrong parameter count.
@@ -124,7 +125,8 @@ class CameraModel {
   static void for_each_model(F&& f) {
     [&]<std::size_t... I>(std::index_sequence<I...>) {
       (f(std::variant_alternative_t<I, CameraModelVariant<Scalar>>()), ...);
-    }(std::make_index_sequence<std::variant_size_v<CameraModelVariant<Scalar>>>());
+    }
+    (std::make_index_sequence<std::variant_size_v<CameraModelVariant<Scalar>>>());
   }
 
   CameraModelVariant<Scalar> model_;

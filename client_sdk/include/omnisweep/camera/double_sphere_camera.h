@@ -14,11 +14,10 @@
 // project and unproject are inverse on their valid sets, whatever the parameters.
 #pragma once
 
+#include <Eigen/Core>
 #include <array>
 #include <cmath>
 #include <string_view>
-
-#include <Eigen/Core>
 
 #include "omnisweep/camera/camera_common.h"
 
@@ -36,7 +35,8 @@ class DoubleSphereCamera {
   using Vec3 = Eigen::Matrix<Scalar, 3, 1>;
 
   DoubleSphereCamera() : DoubleSphereCamera(Params(1, 1, 0, 0, 0, 0.5)) {}
-  explicit DoubleSphereCamera(const Params& params) : params_(params), max_angle_(find_max_angle()) {
+  explicit DoubleSphereCamera(const Params& params)
+      : params_(params), max_angle_(find_max_angle()) {
     cos_max_ = std::cos(max_angle_);
   }
 

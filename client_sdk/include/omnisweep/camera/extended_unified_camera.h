@@ -9,11 +9,10 @@
 //   (alpha sqrt(1 - (2 alpha - 1) beta r2) + 1 - alpha), ray = normalise(mx, my, mz).
 #pragma once
 
+#include <Eigen/Core>
 #include <array>
 #include <cmath>
 #include <string_view>
-
-#include <Eigen/Core>
 
 #include "omnisweep/camera/camera_common.h"
 
@@ -24,7 +23,7 @@ class ExtendedUnifiedCamera {
  public:
   static constexpr int kNumParams = 6;
   static constexpr std::string_view kName = "eucm";
-  static constexpr std::array<std::string_view, kNumParams> kParamNames = {"fx", "fy", "cx",
+  static constexpr std::array<std::string_view, kNumParams> kParamNames = {"fx", "fy",    "cx",
                                                                            "cy", "alpha", "beta"};
   using Params = Eigen::Matrix<Scalar, kNumParams, 1>;
   using Vec2 = Eigen::Matrix<Scalar, 2, 1>;

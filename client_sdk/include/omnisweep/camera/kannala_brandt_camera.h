@@ -7,12 +7,11 @@
 // (pi when there is none). Unprojection solves d(theta) = |(mx, my)| by Newton's method.
 #pragma once
 
+#include <Eigen/Core>
 #include <array>
 #include <cmath>
 #include <numbers>
 #include <string_view>
-
-#include <Eigen/Core>
 
 #include "omnisweep/camera/camera_common.h"
 
@@ -23,14 +22,16 @@ class KannalaBrandtCamera {
  public:
   static constexpr int kNumParams = 8;
   static constexpr std::string_view kName = "kb4";
-  static constexpr std::array<std::string_view, kNumParams> kParamNames = {
-      "fx", "fy", "cx", "cy", "k1", "k2", "k3", "k4"};
+  static constexpr std::array<std::string_view, kNumParams> kParamNames = {"fx", "fy", "cx", "cy",
+                                                                           "k1", "k2", "k3", "k4"};
   using Params = Eigen::Matrix<Scalar, kNumParams, 1>;
   using Vec2 = Eigen::Matrix<Scalar, 2, 1>;
   using Vec3 = Eigen::Matrix<Scalar, 3, 1>;
 
-  KannalaBrandtCamera() : KannalaBrandtCamera(Params((Params() << 1, 1, 0, 0, 0, 0, 0, 0).finished())) {}
-  explicit KannalaBrandtCamera(const Params& params) : params_(params), theta_max_(find_theta_max()) {}
+  KannalaBrandtCamera()
+      : KannalaBrandtCamera(Params((Params() << 1, 1, 0, 0, 0, 0, 0, 0).finished())) {}
+  explicit KannalaBrandtCamera(const Params& params)
+      : params_(params), theta_max_(find_theta_max()) {}
 
   const Params& params() const { return params_; }
 
@@ -80,7 +81,8 @@ class KannalaBrandtCamera {
  private:
   Scalar distort(Scalar t) const {
     const Scalar t2 = t * t;
-    return t * (Scalar(1) + t2 * (params_[4] + t2 * (params_[5] + t2 * (params_[6] + t2 * params_[7]))));
+    return t * (Scalar(1) +
+                t2 * (params_[4] + t2 * (params_[5] + t2 * (params_[6] + t2 * params_[7]))));
   }
   Scalar distort_derivative(Scalar t) const {
     const Scalar t2 = t * t;

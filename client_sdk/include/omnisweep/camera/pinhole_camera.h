@@ -2,12 +2,11 @@
 // valid for z > 0. Used for teleoperation and VR views rendered from the panorama.
 #pragma once
 
+#include <Eigen/Core>
 #include <array>
 #include <cmath>
 #include <numbers>
 #include <string_view>
-
-#include <Eigen/Core>
 
 #include "omnisweep/camera/camera_common.h"
 

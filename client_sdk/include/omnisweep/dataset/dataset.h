@@ -26,8 +26,8 @@ class DatasetError : public std::runtime_error {
 };
 
 struct GroundTruth {
-  Rgb8Image rgb;                  // equirectangular colour panorama (ALGORITHM.md §5)
-  FloatImage inverse_distance;    // same size, m^-1
+  Rgb8Image rgb;                // equirectangular colour panorama (ALGORITHM.md §5)
+  FloatImage inverse_distance;  // same size, m^-1
   std::vector<std::optional<FloatImage>> camera_inverse_distance;  // per camera, when present
 };
 

@@ -5,11 +5,10 @@
 // so the centre column looks along +z, the left edge along -z, and the top row up (-y).
 #pragma once
 
+#include <Eigen/Core>
 #include <algorithm>
 #include <cmath>
 #include <numbers>
-
-#include <Eigen/Core>
 
 namespace omnisweep {
 

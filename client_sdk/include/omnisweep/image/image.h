@@ -91,7 +91,7 @@ class Image {
   int channels_ = 0;
 };
 
-using Rgb8Image = Image<std::uint8_t>;  // 3 channels, RGB, 0..255
+using Rgb8Image = Image<std::uint8_t>;   // 3 channels, RGB, 0..255
 using Gray8Image = Image<std::uint8_t>;  // 1 channel
 using FloatImage = Image<float>;
 
