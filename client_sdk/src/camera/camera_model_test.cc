@@ -135,8 +135,12 @@ TEST_P(RandomCameraTest, PointsRoundTripAndInvalidPointsStayFinite) {
       const bool ok = cam.project(p, &uv);
       ASSERT_TRUE(uv.allFinite()) << "project wrote NaN for " << p.transpose();
       const double angle = std::acos(std::clamp(p.normalized().z(), -1.0, 1.0));
-      if (angle < cam.max_angle() - 1e-9) EXPECT_TRUE(ok) << p.transpose();
-      if (angle > cam.max_angle() + 1e-9) EXPECT_FALSE(ok) << p.transpose();
+      if (angle < cam.max_angle() - 1e-9) {
+        EXPECT_TRUE(ok) << p.transpose();
+      }
+      if (angle > cam.max_angle() + 1e-9) {
+        EXPECT_FALSE(ok) << p.transpose();
+      }
       if (!ok) continue;
       Vec3 ray;
       if (!cam.unproject(uv, &ray)) continue;  // beyond the lens' unprojection domain

@@ -77,14 +77,19 @@ class Image {
   std::span<T> pixels() { return pixels_; }
   std::span<const T> pixels() const { return pixels_; }
 
-  T& operator()(int x, int y, int c = 0) { return view()(x, y, c); }
-  const T& operator()(int x, int y, int c = 0) const { return view()(x, y, c); }
+  T& operator()(int x, int y, int c = 0) { return pixels_[index(x, y, c)]; }
+  const T& operator()(int x, int y, int c = 0) const { return pixels_[index(x, y, c)]; }
   bool contains(int x, int y) const { return x >= 0 && y >= 0 && x < width_ && y < height_; }
 
   ImageView<T> view() { return {pixels_.data(), width_, height_, channels_}; }
   ImageView<const T> view() const { return {pixels_.data(), width_, height_, channels_}; }
 
  private:
+  std::size_t index(int x, int y, int c) const {
+    assert(x >= 0 && x < width_ && y >= 0 && y < height_ && c >= 0 && c < channels_);
+    return (std::size_t(y) * width_ + x) * channels_ + c;
+  }
+
   std::vector<T> pixels_;
   int width_ = 0;
   int height_ = 0;
