@@ -14,7 +14,6 @@
 // project and unproject are inverse on their valid sets, whatever the parameters.
 #pragma once
 
-#include <Eigen/Core>
 #include <array>
 #include <cmath>
 #include <string_view>
@@ -24,48 +23,49 @@
 namespace omnisweep {
 
 template <typename Scalar = double>
-class DoubleSphereCamera {
+class DoubleSphereCamera : public CameraModelBase<DoubleSphereCamera, Scalar, 6> {
+  using Base = CameraModelBase<DoubleSphereCamera, Scalar, 6>;
+
  public:
-  static constexpr int kNumParams = 6;
   static constexpr std::string_view kName = "ds";
-  static constexpr std::array<std::string_view, kNumParams> kParamNames = {"fx", "fy", "cx",
-                                                                           "cy", "xi", "alpha"};
-  using Params = Eigen::Matrix<Scalar, kNumParams, 1>;
-  using Vec2 = Eigen::Matrix<Scalar, 2, 1>;
-  using Vec3 = Eigen::Matrix<Scalar, 3, 1>;
+  static constexpr std::array<std::string_view, 6> kParamNames = {"fx", "fy", "cx",
+                                                                  "cy", "xi", "alpha"};
+  using typename Base::Params;
+  using typename Base::Vec2;
+  using typename Base::Vec3;
 
   DoubleSphereCamera() : DoubleSphereCamera(Params(1, 1, 0, 0, 0, 0.5)) {}
-  explicit DoubleSphereCamera(const Params& params)
-      : params_(params), max_angle_(find_max_angle()) {
-    cos_max_ = std::cos(max_angle_);
+  explicit DoubleSphereCamera(const Params& params) : Base(params) {
+    const Scalar a = alpha(), x = xi();
+    this->set_valid_cone(camera_detail::clamped_acos(-w2()), [&](Scalar t) {
+      const Scalar c = x + std::cos(t);
+      const Scalar den = a * std::sqrt(std::sin(t) * std::sin(t) + c * c) + (Scalar(1) - a) * c;
+      return den > Scalar(0) ? std::sin(t) / den : Scalar(-1);
+    });
   }
 
-  const Params& params() const { return params_; }
-  Scalar xi() const { return params_[4]; }
-  Scalar alpha() const { return params_[5]; }
+  Scalar xi() const { return this->params_[4]; }
+  Scalar alpha() const { return this->params_[5]; }
 
   // Returns true when p projects validly. *uv is written whenever the formula is defined
   // (also for some invalid points) and is never NaN.
   bool project(const Vec3& p, Vec2* uv) const {
-    const Scalar fx = params_[0], fy = params_[1], cx = params_[2], cy = params_[3];
     const Scalar x = p.x(), y = p.y(), z = p.z();
     const Scalar d1 = std::sqrt(x * x + y * y + z * z);
     const Scalar c = xi() * d1 + z;
     const Scalar d2 = std::sqrt(x * x + y * y + c * c);
     const Scalar den = alpha() * d2 + (Scalar(1) - alpha()) * c;
     if (!(den > Scalar(0)) || !std::isfinite(den)) {
-      *uv = Vec2(cx, cy);
+      this->to_pixel(Scalar(0), Scalar(0), uv);
       return false;
     }
-    *uv = Vec2(fx * x / den + cx, fy * y / den + cy);
-    return camera_detail::within_cone(p, cos_max_) && uv->allFinite();
+    return this->to_pixel(x / den, y / den, uv) && this->in_valid_cone(p);
   }
 
   // Returns true when (u, v) maps to a ray; *ray (unit length) is written only then.
   bool unproject(const Vec2& uv, Vec3* ray) const {
-    const Scalar mx = (uv.x() - params_[2]) / params_[0];
-    const Scalar my = (uv.y() - params_[3]) / params_[1];
-    const Scalar r2 = mx * mx + my * my;
+    const Vec2 m = this->normalized(uv);
+    const Scalar r2 = m.squaredNorm();
     const Scalar a = alpha(), x = xi();
     const Scalar s1 = Scalar(1) - (Scalar(2) * a - Scalar(1)) * r2;
     if (!(s1 >= Scalar(0))) return false;
@@ -74,31 +74,16 @@ class DoubleSphereCamera {
     const Scalar den = mz * mz + r2;
     if (!(s2 >= Scalar(0)) || !(den > Scalar(0))) return false;
     const Scalar k = (mz * x + std::sqrt(s2)) / den;
-    const Vec3 r(k * mx, k * my, k * mz - x);
-    const Scalar n = r.norm();
-    if (!(n > Scalar(0)) || !std::isfinite(n)) return false;
-    const Vec3 unit = r / n;
-    if (!(unit.z() > cos_max_)) return false;
-    *ray = unit;
+    const Vec3 r(k * m.x(), k * m.y(), k * mz - x);
+    if (!this->in_valid_cone(r)) return false;
+    *ray = r.normalized();
     return true;
   }
 
-  // Largest angle between the optical axis and a projectable ray (half the model's FOV).
-  Scalar max_angle() const { return max_angle_; }
-
-  DoubleSphereCamera scaled(Scalar sx, Scalar sy) const {
-    return DoubleSphereCamera(camera_detail::scale_intrinsics(params_, sx, sy));
-  }
-
   std::optional<ParamIssue> check() const {
-    if (auto issue = camera_detail::check_common(params_)) return issue;
+    if (auto issue = this->check_common()) return issue;
     if (!(alpha() >= 0 && alpha() <= 1)) return ParamIssue{5, "must be within [0, 1]"};
     return std::nullopt;
-  }
-
-  template <typename Other>
-  DoubleSphereCamera<Other> cast() const {
-    return DoubleSphereCamera<Other>(params_.template cast<Other>());
   }
 
  private:
@@ -107,23 +92,6 @@ class DoubleSphereCamera {
     const Scalar w1 = a > Scalar(0.5) ? (Scalar(1) - a) / a : a / (Scalar(1) - a);
     return (w1 + x) / std::sqrt(Scalar(2) * w1 * x + x * x + Scalar(1));
   }
-
-  // acos(-w2), or the fold angle when the projection folds first.
-  Scalar find_max_angle() const {
-    const Scalar c = -w2();
-    const Scalar limit = std::acos(c < Scalar(-1) ? Scalar(-1) : (c > Scalar(1) ? Scalar(1) : c));
-    const Scalar a = alpha(), x = xi();
-    auto radius = [&](Scalar t) {  // image radius / fx of the ray (sin t, 0, cos t)
-      const Scalar cc = x + std::cos(t);
-      const Scalar den = a * std::sqrt(std::sin(t) * std::sin(t) + cc * cc) + (Scalar(1) - a) * cc;
-      return den > Scalar(0) ? std::sin(t) / den : Scalar(-1);
-    };
-    return limit == limit ? camera_detail::monotonic_angle_limit(radius, limit) : Scalar(0);
-  }
-
-  Params params_;
-  Scalar max_angle_;
-  Scalar cos_max_ = 1;
 };
 
 }  // namespace omnisweep

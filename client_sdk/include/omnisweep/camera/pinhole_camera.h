@@ -2,9 +2,7 @@
 // valid for z > 0. Used for teleoperation and VR views rendered from the panorama.
 #pragma once
 
-#include <Eigen/Core>
 #include <array>
-#include <cmath>
 #include <numbers>
 #include <string_view>
 
@@ -13,55 +11,37 @@
 namespace omnisweep {
 
 template <typename Scalar = double>
-class PinholeCamera {
+class PinholeCamera : public CameraModelBase<PinholeCamera, Scalar, 4> {
+  using Base = CameraModelBase<PinholeCamera, Scalar, 4>;
+
  public:
-  static constexpr int kNumParams = 4;
   static constexpr std::string_view kName = "pinhole";
-  static constexpr std::array<std::string_view, kNumParams> kParamNames = {"fx", "fy", "cx", "cy"};
-  using Params = Eigen::Matrix<Scalar, kNumParams, 1>;
-  using Vec2 = Eigen::Matrix<Scalar, 2, 1>;
-  using Vec3 = Eigen::Matrix<Scalar, 3, 1>;
+  static constexpr std::array<std::string_view, 4> kParamNames = {"fx", "fy", "cx", "cy"};
+  using typename Base::Params;
+  using typename Base::Vec2;
+  using typename Base::Vec3;
 
   PinholeCamera() : PinholeCamera(Params(1, 1, 0, 0)) {}
-  explicit PinholeCamera(const Params& params) : params_(params) {}
-
-  const Params& params() const { return params_; }
+  explicit PinholeCamera(const Params& params) : Base(params) {
+    this->set_valid_cone(std::numbers::pi_v<Scalar> / 2, [](Scalar t) { return t; });
+  }
 
   bool project(const Vec3& p, Vec2* uv) const {
     if (!(p.z() > Scalar(0))) {
-      *uv = Vec2(params_[2], params_[3]);
+      this->to_pixel(Scalar(0), Scalar(0), uv);
       return false;
     }
-    *uv = Vec2(params_[0] * p.x() / p.z() + params_[2], params_[1] * p.y() / p.z() + params_[3]);
-    if (!uv->allFinite()) {
-      *uv = Vec2(params_[2], params_[3]);
-      return false;
-    }
-    return p.allFinite();
+    return this->to_pixel(p.x() / p.z(), p.y() / p.z(), uv) && p.allFinite();
   }
 
   bool unproject(const Vec2& uv, Vec3* ray) const {
-    const Vec3 r((uv.x() - params_[2]) / params_[0], (uv.y() - params_[3]) / params_[1], 1);
-    if (!r.allFinite()) return false;
-    *ray = r.normalized();
+    const Vec2 m = this->normalized(uv);
+    if (!m.allFinite()) return false;
+    *ray = Vec3(m.x(), m.y(), Scalar(1)).normalized();
     return true;
   }
 
-  Scalar max_angle() const { return std::numbers::pi_v<Scalar> / 2; }
-
-  PinholeCamera scaled(Scalar sx, Scalar sy) const {
-    return PinholeCamera(camera_detail::scale_intrinsics(params_, sx, sy));
-  }
-
-  std::optional<ParamIssue> check() const { return camera_detail::check_common(params_); }
-
-  template <typename Other>
-  PinholeCamera<Other> cast() const {
-    return PinholeCamera<Other>(params_.template cast<Other>());
-  }
-
- private:
-  Params params_;
+  std::optional<ParamIssue> check() const { return this->check_common(); }
 };
 
 }  // namespace omnisweep
