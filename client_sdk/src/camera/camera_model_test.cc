@@ -71,6 +71,7 @@ TEST(CameraModel, KaistRigRoundTripFloat) {
   const Rig rig = read_basalt_calibration(testing::kaist_rig_dir() / "calibration.json");
   for (const RigCamera& cam : rig.cameras) {
     const RoundTripStats stats = round_trip(cam.model.cast<float>(), cam.width, cam.height, 3);
+    std::cout << "float: max round-trip error " << stats.max_error << " px\n";
     EXPECT_LT(stats.max_error, 5e-3);
     EXPECT_GT(stats.valid, 0);
   }
