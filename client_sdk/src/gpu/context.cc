@@ -1,0 +1,250 @@
+#include "omnisweep/gpu/context.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cstdlib>
+
+namespace omnisweep::gpu {
+namespace {
+
+constexpr const char* kValidationLayer = "VK_LAYER_KHRONOS_validation";
+
+std::string lower(std::string s) {
+  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return std::tolower(c); });
+  return s;
+}
+
+const char* type_name(vk::PhysicalDeviceType type) {
+  switch (type) {
+    case vk::PhysicalDeviceType::eDiscreteGpu:
+      return "discrete";
+    case vk::PhysicalDeviceType::eIntegratedGpu:
+      return "integrated";
+    case vk::PhysicalDeviceType::eVirtualGpu:
+      return "virtual";
+    case vk::PhysicalDeviceType::eCpu:
+      return "cpu";
+    default:
+      return "other";
+  }
+}
+
+int type_rank(vk::PhysicalDeviceType type) {
+  switch (type) {
+    case vk::PhysicalDeviceType::eDiscreteGpu:
+      return 0;
+    case vk::PhysicalDeviceType::eIntegratedGpu:
+      return 1;
+    case vk::PhysicalDeviceType::eVirtualGpu:
+      return 2;
+    case vk::PhysicalDeviceType::eCpu:
+      return 3;
+    default:
+      return 4;
+  }
+}
+
+std::int64_t compute_queue_family(const vk::raii::PhysicalDevice& device) {
+  const auto families = device.getQueueFamilyProperties();
+  for (std::size_t i = 0; i < families.size(); ++i) {
+    if (families[i].queueFlags & vk::QueueFlagBits::eCompute) return std::int64_t(i);
+  }
+  return -1;
+}
+
+DeviceInfo describe(const vk::raii::PhysicalDevice& device, int index) {
+  const auto props = device.getProperties();
+  DeviceInfo info;
+  info.index = index;
+  info.name = props.deviceName.data();
+  info.type = type_name(props.deviceType);
+  info.api_version = std::to_string(VK_API_VERSION_MAJOR(props.apiVersion)) + "." +
+                     std::to_string(VK_API_VERSION_MINOR(props.apiVersion)) + "." +
+                     std::to_string(VK_API_VERSION_PATCH(props.apiVersion));
+  info.max_storage_buffer_range = props.limits.maxStorageBufferRange;
+  info.max_workgroup_invocations = props.limits.maxComputeWorkGroupInvocations;
+  for (int i = 0; i < 3; ++i)
+    info.max_workgroup_count[i] = props.limits.maxComputeWorkGroupCount[i];
+  info.max_shared_memory = props.limits.maxComputeSharedMemorySize;
+  const auto memory = device.getMemoryProperties();
+  for (std::uint32_t i = 0; i < memory.memoryHeapCount; ++i) {
+    if (memory.memoryHeaps[i].flags & vk::MemoryHeapFlagBits::eDeviceLocal) {
+      info.device_local_bytes =
+          std::max<std::uint64_t>(info.device_local_bytes, memory.memoryHeaps[i].size);
+    }
+  }
+  const std::int64_t family = compute_queue_family(device);
+  info.timestamps = family >= 0 && props.limits.timestampComputeAndGraphics &&
+                    device.getQueueFamilyProperties()[family].timestampValidBits > 0;
+  info.timestamp_period_ns = props.limits.timestampPeriod;
+  return info;
+}
+
+vk::raii::Instance create_instance(const vk::raii::Context& context, bool validation) {
+  const vk::ApplicationInfo app("omnisweep", 1, "omnisweep", 1, VK_API_VERSION_1_1);
+  std::vector<const char*> layers, extensions;
+  if (validation) {
+    const auto available = context.enumerateInstanceLayerProperties();
+    const bool found =
+        std::any_of(available.begin(), available.end(), [](const vk::LayerProperties& p) {
+          return std::string(p.layerName.data()) == kValidationLayer;
+        });
+    if (!found) {
+      throw GpuError(std::string("Vulkan validation was requested but ") + kValidationLayer +
+                     " is not installed (Debian package vulkan-validationlayers)");
+    }
+    layers.push_back(kValidationLayer);
+    extensions.push_back(VK_EXT_DEBUG_UTILS_EXTENSION_NAME);
+  }
+  try {
+    return vk::raii::Instance(context, vk::InstanceCreateInfo({}, &app, layers, extensions));
+  } catch (const vk::SystemError& e) {
+    throw GpuError(
+        std::string("cannot create a Vulkan instance (is a Vulkan driver installed? on Debian: "
+                    "mesa-vulkan-drivers, or the GPU vendor's driver): ") +
+        e.what());
+  }
+}
+
+}  // namespace
+
+ContextOptions ContextOptions::from_environment() {
+  ContextOptions options;
+  if (const char* device = std::getenv("OMNISWEEP_VK_DEVICE")) options.device = device;
+  if (const char* validation = std::getenv("OMNISWEEP_VK_VALIDATION")) {
+    options.validation = std::string(validation) == "1";
+  }
+  return options;
+}
+
+std::vector<DeviceInfo> list_devices() {
+  vk::raii::Context context;
+  const vk::raii::Instance instance = create_instance(context, false);
+  std::vector<DeviceInfo> out;
+  int index = 0;
+  for (const auto& device : vk::raii::PhysicalDevices(instance))
+    out.push_back(describe(device, index++));
+  return out;
+}
+
+Context::Context(const ContextOptions& options)
+    : validation_(options.validation), messages_(std::make_unique<Messages>()) {
+  instance_ = create_instance(context_, validation_);
+  if (validation_) {
+    using Severity = vk::DebugUtilsMessageSeverityFlagBitsEXT;
+    using Type = vk::DebugUtilsMessageTypeFlagBitsEXT;
+    const auto callback =
+        [](VkDebugUtilsMessageSeverityFlagBitsEXT, VkDebugUtilsMessageTypeFlagsEXT,
+           const VkDebugUtilsMessengerCallbackDataEXT* data, void* user) -> VkBool32 {
+      auto* messages = static_cast<Messages*>(user);
+      const std::lock_guard lock(messages->mutex);
+      messages->list.emplace_back(data->pMessage ? data->pMessage : "(no message)");
+      return VK_FALSE;
+    };
+    messenger_ = vk::raii::DebugUtilsMessengerEXT(
+        instance_,
+        vk::DebugUtilsMessengerCreateInfoEXT(
+            {}, Severity::eWarning | Severity::eError,
+            Type::eGeneral | Type::eValidation | Type::ePerformance, callback, messages_.get()));
+  }
+  vk::raii::PhysicalDevices devices(instance_);
+  if (devices.empty()) {
+    throw GpuError(
+        "no Vulkan device found (install a Vulkan driver; on Debian mesa-vulkan-drivers gives "
+        "lavapipe, a CPU device)");
+  }
+  std::vector<DeviceInfo> infos;
+  for (std::size_t i = 0; i < devices.size(); ++i) infos.push_back(describe(devices[i], int(i)));
+  auto available = [&] {
+    std::string list;
+    for (const auto& d : infos)
+      list += "\n  " + std::to_string(d.index) + ": " + d.name + " (" + d.type + ")";
+    return list;
+  };
+  int chosen = -1;
+  if (!options.device.empty()) {
+    const bool is_index = std::all_of(options.device.begin(), options.device.end(), ::isdigit);
+    for (const auto& d : infos) {
+      if (is_index ? std::to_string(d.index) == options.device
+                   : lower(d.name).find(lower(options.device)) != std::string::npos) {
+        chosen = d.index;
+        break;
+      }
+    }
+    if (chosen < 0)
+      throw GpuError("no Vulkan device matches '" + options.device + "'; available:" + available());
+  } else {
+    for (const auto& d : infos) {
+      if (compute_queue_family(devices[d.index]) < 0) continue;
+      if (chosen < 0 || type_rank(devices[d.index].getProperties().deviceType) <
+                            type_rank(devices[chosen].getProperties().deviceType)) {
+        chosen = d.index;
+      }
+    }
+  }
+  const std::int64_t family = chosen >= 0 ? compute_queue_family(devices[chosen]) : -1;
+  if (family < 0) throw GpuError("no Vulkan device with a compute queue; available:" + available());
+  physical_device_ = std::move(devices[chosen]);
+  info_ = infos[chosen];
+  queue_family_ = std::uint32_t(family);
+  memory_properties_ = physical_device_.getMemoryProperties();
+
+  const float priority = 1.0f;
+  const vk::DeviceQueueCreateInfo queue_info({}, queue_family_, 1, &priority);
+  device_ = vk::raii::Device(physical_device_, vk::DeviceCreateInfo({}, queue_info));
+  queue_ = vk::raii::Queue(device_, queue_family_, 0);
+  command_pool_ = vk::raii::CommandPool(
+      device_,
+      vk::CommandPoolCreateInfo(vk::CommandPoolCreateFlagBits::eResetCommandBuffer, queue_family_));
+}
+
+Context::~Context() {
+  if (*device_) device_.waitIdle();
+}
+
+std::vector<std::string> Context::take_validation_messages() {
+  const std::lock_guard lock(messages_->mutex);
+  return std::exchange(messages_->list, {});
+}
+
+std::uint32_t Context::find_memory_type(std::uint32_t type_bits, vk::MemoryPropertyFlags required,
+                                        vk::MemoryPropertyFlags preferred) const {
+  std::int64_t fallback = -1;
+  for (std::uint32_t i = 0; i < memory_properties_.memoryTypeCount; ++i) {
+    if (!(type_bits & (1u << i))) continue;
+    const auto flags = memory_properties_.memoryTypes[i].propertyFlags;
+    if ((flags & required) != required) continue;
+    if ((flags & preferred) == preferred) return i;
+    if (fallback < 0) fallback = i;
+  }
+  if (fallback < 0)
+    throw GpuError("no Vulkan memory type with the required properties on " + info_.name);
+  return std::uint32_t(fallback);
+}
+
+bool Context::memory_type_has(std::uint32_t type, vk::MemoryPropertyFlags flags) const {
+  return (memory_properties_.memoryTypes[type].propertyFlags & flags) == flags;
+}
+
+void Context::track_allocation(std::int64_t bytes) {
+  allocated_ = std::uint64_t(std::int64_t(allocated_) + bytes);
+  peak_allocated_ = std::max(peak_allocated_, allocated_);
+}
+
+void Context::run_commands(
+    const std::function<void(const vk::raii::CommandBuffer&)>& record) const {
+  vk::raii::CommandBuffers buffers(
+      device_, vk::CommandBufferAllocateInfo(*command_pool_, vk::CommandBufferLevel::ePrimary, 1));
+  const vk::raii::CommandBuffer& cmd = buffers[0];
+  cmd.begin(vk::CommandBufferBeginInfo(vk::CommandBufferUsageFlagBits::eOneTimeSubmit));
+  record(cmd);
+  cmd.end();
+  const vk::raii::Fence fence(device_, vk::FenceCreateInfo());
+  const vk::CommandBuffer raw = *cmd;
+  queue_.submit(vk::SubmitInfo({}, {}, raw), *fence);
+  if (device_.waitForFences(*fence, VK_TRUE, UINT64_MAX) != vk::Result::eSuccess) {
+    throw GpuError("waiting for the GPU failed");
+  }
+}
+
+}  // namespace omnisweep::gpu

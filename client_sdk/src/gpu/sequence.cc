@@ -1,0 +1,174 @@
+#include "omnisweep/gpu/sequence.h"
+
+#include <algorithm>
+
+namespace omnisweep::gpu {
+
+Sequence::Sequence(const Context& context, std::uint32_t max_dispatches, std::uint32_t max_stages)
+    : context_(&context), max_stages_(max_stages) {
+  const vk::DescriptorPoolSize size(vk::DescriptorType::eStorageBuffer, max_dispatches * 16);
+  pool_ = vk::raii::DescriptorPool(context.device(),
+                                   vk::DescriptorPoolCreateInfo({}, max_dispatches, size));
+  commands_ = vk::raii::CommandBuffers(
+      context.device(),
+      vk::CommandBufferAllocateInfo(*context.command_pool(), vk::CommandBufferLevel::ePrimary, 1));
+  if (context.info().timestamps) {
+    queries_ = vk::raii::QueryPool(
+        context.device(), vk::QueryPoolCreateInfo({}, vk::QueryType::eTimestamp, 2 * max_stages));
+  }
+  fence_ = vk::raii::Fence(context.device(), vk::FenceCreateInfo());
+}
+
+void Sequence::begin() {
+  pool_.reset();
+  stage_names_.clear();
+  timings_.clear();
+  stage_open_ = false;
+  const auto& cmd = commands_[0];
+  cmd.reset();
+  cmd.begin(vk::CommandBufferBeginInfo(vk::CommandBufferUsageFlagBits::eOneTimeSubmit));
+  if (*queries_) cmd.resetQueryPool(*queries_, 0, 2 * max_stages_);
+  recording_ = true;
+}
+
+void Sequence::dispatch(const Kernel& kernel, const std::vector<Binding>& bindings,
+                        const void* push, std::size_t push_bytes,
+                        std::array<std::uint32_t, 3> groups) {
+  if (!recording_)
+    throw GpuError("kernel " + kernel.name() + ": dispatch outside begin()/submit_and_wait()");
+  const auto& layout = kernel.layout();
+  if (bindings.size() != layout.bindings.size()) {
+    throw GpuError("kernel " + kernel.name() + ": expects " +
+                   std::to_string(layout.bindings.size()) + " bindings, got " +
+                   std::to_string(bindings.size()));
+  }
+  if (push_bytes != layout.push_constant_bytes) {
+    throw GpuError("kernel " + kernel.name() + ": push constants are " +
+                   std::to_string(layout.push_constant_bytes) + " bytes, got " +
+                   std::to_string(push_bytes));
+  }
+  const auto& limits = context_->info();
+  for (int i = 0; i < 3; ++i) {
+    if (groups[i] == 0 || groups[i] > limits.max_workgroup_count[i]) {
+      throw GpuError("kernel " + kernel.name() + ": " + std::to_string(groups[i]) +
+                     " workgroups in dimension " + std::to_string(i) + " (device limit " +
+                     std::to_string(limits.max_workgroup_count[i]) + ")");
+    }
+  }
+  std::vector<std::vector<vk::DescriptorBufferInfo>> infos(bindings.size());
+  for (std::size_t b = 0; b < bindings.size(); ++b) {
+    if (bindings[b].buffers.size() != layout.bindings[b]) {
+      throw GpuError("kernel " + kernel.name() + ": binding " + std::to_string(b) + " takes " +
+                     std::to_string(layout.bindings[b]) + " buffers, got " +
+                     std::to_string(bindings[b].buffers.size()));
+    }
+    for (const Buffer* buffer : bindings[b].buffers) {
+      if (buffer->size() > limits.max_storage_buffer_range) {
+        throw GpuError("kernel " + kernel.name() + ": binding " + std::to_string(b) + " is " +
+                       std::to_string(buffer->size() >> 20) +
+                       " MiB, over the device's maxStorageBufferRange of " +
+                       std::to_string(limits.max_storage_buffer_range >> 20) + " MiB");
+      }
+      infos[b].emplace_back(buffer->handle(), 0, VK_WHOLE_SIZE);
+    }
+  }
+  // Everything is checked: allocate the set and hand it to the pool at once (the pool frees it
+  // on the next begin(); freeing sets one by one is not allowed for this pool).
+  const vk::DescriptorSetLayout set_layout = kernel.set_layout();
+  vk::raii::DescriptorSets sets(context_->device(),
+                                vk::DescriptorSetAllocateInfo(*pool_, set_layout));
+  const vk::DescriptorSet set = sets[0].release();
+  std::vector<vk::WriteDescriptorSet> writes;
+  for (std::size_t b = 0; b < bindings.size(); ++b) {
+    writes.emplace_back(set, std::uint32_t(b), 0, vk::DescriptorType::eStorageBuffer, nullptr,
+                        infos[b]);
+  }
+  context_->device().updateDescriptorSets(writes, nullptr);
+  const auto& cmd = commands_[0];
+  cmd.bindPipeline(vk::PipelineBindPoint::eCompute, kernel.pipeline());
+  cmd.bindDescriptorSets(vk::PipelineBindPoint::eCompute, kernel.pipeline_layout(), 0, set,
+                         nullptr);
+  if (push_bytes) {
+    const vk::ArrayProxy<const std::uint8_t> bytes(std::uint32_t(push_bytes),
+                                                   static_cast<const std::uint8_t*>(push));
+    cmd.pushConstants<std::uint8_t>(kernel.pipeline_layout(), vk::ShaderStageFlagBits::eCompute, 0,
+                                    bytes);
+  }
+  cmd.dispatch(groups[0], groups[1], groups[2]);
+}
+
+void Sequence::barrier() {
+  const vk::MemoryBarrier memory(
+      vk::AccessFlagBits::eShaderWrite | vk::AccessFlagBits::eTransferWrite,
+      vk::AccessFlagBits::eShaderRead | vk::AccessFlagBits::eShaderWrite |
+          vk::AccessFlagBits::eTransferRead | vk::AccessFlagBits::eTransferWrite);
+  const auto stages =
+      vk::PipelineStageFlagBits::eComputeShader | vk::PipelineStageFlagBits::eTransfer;
+  commands_[0].pipelineBarrier(stages, stages, {}, memory, nullptr, nullptr);
+}
+
+void Sequence::copy(const Buffer& source, Buffer& destination, vk::DeviceSize bytes) {
+  if (bytes > source.size() || bytes > destination.size())
+    throw GpuError("GPU copy larger than its buffers");
+  commands_[0].copyBuffer(source.handle(), destination.handle(), vk::BufferCopy(0, 0, bytes));
+}
+
+void Sequence::fill(Buffer& buffer, std::uint32_t pattern) {
+  commands_[0].fillBuffer(buffer.handle(), 0, VK_WHOLE_SIZE, pattern);
+}
+
+void Sequence::begin_stage(const std::string& name) {
+  if (stage_open_) end_stage();
+  if (stage_names_.size() >= max_stages_) throw GpuError("too many timed stages in one sequence");
+  if (*queries_) {
+    commands_[0].writeTimestamp(vk::PipelineStageFlagBits::eBottomOfPipe, *queries_,
+                                std::uint32_t(2 * stage_names_.size()));
+  }
+  stage_names_.push_back(name);
+  stage_open_ = true;
+}
+
+void Sequence::end_stage() {
+  if (!stage_open_) return;
+  if (*queries_) {
+    commands_[0].writeTimestamp(vk::PipelineStageFlagBits::eBottomOfPipe, *queries_,
+                                std::uint32_t(2 * stage_names_.size() - 1));
+  }
+  stage_open_ = false;
+}
+
+void Sequence::submit_and_wait() {
+  if (!recording_) throw GpuError("submit_and_wait() without begin()");
+  end_stage();
+  const auto& cmd = commands_[0];
+  cmd.end();
+  recording_ = false;
+  context_->device().resetFences(*fence_);
+  const vk::CommandBuffer raw = *cmd;
+  context_->queue().submit(vk::SubmitInfo({}, {}, raw), *fence_);
+  if (context_->device().waitForFences(*fence_, VK_TRUE, UINT64_MAX) != vk::Result::eSuccess) {
+    throw GpuError("waiting for the GPU failed");
+  }
+  timings_.clear();
+  if (!*queries_ || stage_names_.empty()) return;
+  const auto count = std::uint32_t(2 * stage_names_.size());
+  const auto [result, stamps] = queries_.getResults<std::uint64_t>(
+      0, count, count * sizeof(std::uint64_t), sizeof(std::uint64_t),
+      vk::QueryResultFlagBits::e64 | vk::QueryResultFlagBits::eWait);
+  if (result != vk::Result::eSuccess) return;
+  for (std::size_t i = 0; i < stage_names_.size(); ++i) {
+    const double ms =
+        double(stamps[2 * i + 1] - stamps[2 * i]) * context_->info().timestamp_period_ns * 1e-6;
+    auto it = std::find_if(timings_.begin(), timings_.end(),
+                           [&](const auto& t) { return t.first == stage_names_[i]; });
+    if (it == timings_.end()) {
+      timings_.emplace_back(stage_names_[i], ms);
+    } else {
+      it->second += ms;
+    }
+  }
+}
+
+std::vector<std::pair<std::string, double>> Sequence::stage_ms() const { return timings_; }
+
+}  // namespace omnisweep::gpu
