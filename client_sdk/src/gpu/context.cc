@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cstdio>
 #include <cstdlib>
 
 namespace omnisweep::gpu {
@@ -77,6 +78,8 @@ DeviceInfo describe(const vk::raii::PhysicalDevice& device, int index) {
   info.timestamps = family >= 0 && props.limits.timestampComputeAndGraphics &&
                     device.getQueueFamilyProperties()[family].timestampValidBits > 0;
   info.timestamp_period_ns = props.limits.timestampPeriod;
+  info.buffer_array_indexing = device.getFeatures().shaderStorageBufferArrayDynamicIndexing;
+  info.max_storage_buffers_per_stage = props.limits.maxPerStageDescriptorStorageBuffers;
   return info;
 }
 
@@ -137,6 +140,10 @@ Context::Context(const ContextOptions& options)
         [](VkDebugUtilsMessageSeverityFlagBitsEXT, VkDebugUtilsMessageTypeFlagsEXT,
            const VkDebugUtilsMessengerCallbackDataEXT* data, void* user) -> VkBool32 {
       auto* messages = static_cast<Messages*>(user);
+      // Also printed at once: a message often explains a crash that follows before anyone reads the
+      // list.
+      std::fprintf(stderr, "Vulkan validation: %s\n",
+                   data->pMessage ? data->pMessage : "(no message)");
       const std::lock_guard lock(messages->mutex);
       messages->list.emplace_back(data->pMessage ? data->pMessage : "(no message)");
       return VK_FALSE;
@@ -191,7 +198,10 @@ Context::Context(const ContextOptions& options)
 
   const float priority = 1.0f;
   const vk::DeviceQueueCreateInfo queue_info({}, queue_family_, 1, &priority);
-  device_ = vk::raii::Device(physical_device_, vk::DeviceCreateInfo({}, queue_info));
+  vk::PhysicalDeviceFeatures features;
+  features.shaderStorageBufferArrayDynamicIndexing = info_.buffer_array_indexing;
+  device_ =
+      vk::raii::Device(physical_device_, vk::DeviceCreateInfo({}, queue_info, {}, {}, &features));
   queue_ = vk::raii::Queue(device_, queue_family_, 0);
   command_pool_ = vk::raii::CommandPool(
       device_,

@@ -72,9 +72,9 @@ TEST(GpuDevices, NoDeviceIsAClearError) {
 TEST_F(ValidatedGpuTest, ReportsLimitsOfTheDevice) {
   const DeviceInfo& info = context().info();
   std::cout << info.name << ": maxStorageBufferRange " << (info.max_storage_buffer_range >> 20)
-            << " MiB, " << info.max_workgroup_invocations
-            << " invocations per workgroup, timestamps " << (info.timestamps ? "yes" : "no")
-            << "\n";
+            << " MiB, " << info.max_workgroup_invocations << " invocations per workgroup, "
+            << info.max_storage_buffers_per_stage << " storage buffers per stage, timestamps "
+            << (info.timestamps ? "yes" : "no") << "\n";
   EXPECT_GE(info.max_storage_buffer_range, 128u << 20);
   EXPECT_GE(info.max_workgroup_invocations, 128u);
 }

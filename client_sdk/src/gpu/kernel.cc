@@ -15,6 +15,14 @@ Kernel::Kernel(const Context& context, const std::string& shader, KernelLayout l
                    " invocations exceeds the device limit " +
                    std::to_string(props_limits.max_workgroup_invocations));
   }
+  std::uint32_t descriptors = 0;
+  for (std::uint32_t count : layout_.bindings) descriptors += count;
+  if (descriptors > props_limits.max_storage_buffers_per_stage) {
+    throw GpuError("kernel " + shader + ": binds " + std::to_string(descriptors) +
+                   " storage buffers, over the limit of " +
+                   std::to_string(props_limits.max_storage_buffers_per_stage) + " on " +
+                   props_limits.name);
+  }
   try {
     std::vector<vk::DescriptorSetLayoutBinding> bindings;
     for (std::uint32_t i = 0; i < layout_.bindings.size(); ++i) {

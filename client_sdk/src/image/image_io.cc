@@ -194,6 +194,27 @@ void write_exr(const std::filesystem::path& path, const FloatImage& image) {
   }
 }
 
+Image<std::uint8_t> resize_area(const Image<std::uint8_t>& image, int width, int height) {
+  if (width <= 0 || height <= 0) throw ImageIoError("resize_area: target size must be positive");
+  const cv::Mat src(image.height(), image.width(), CV_8UC(image.channels()), const_cast<std::uint8_t*>(image.data()));
+  Image<std::uint8_t> out(width, height, image.channels());
+  cv::Mat dst(height, width, CV_8UC(image.channels()), out.data());
+  cv::resize(src, dst, dst.size(), 0, 0, cv::INTER_AREA);
+  return out;
+}
+
+Gray8Image usable_mask(const Gray8Image& mask, int width, int height) {
+  const cv::Mat src(mask.height(), mask.width(), CV_8UC1, const_cast<std::uint8_t*>(mask.data()));
+  cv::Mat as_float, resized;
+  src.convertTo(as_float, CV_32F, 1.0 / 255.0);
+  cv::resize(as_float, resized, cv::Size(width, height), 0, 0, cv::INTER_AREA);
+  Gray8Image out(width, height, 1);
+  for (int y = 0; y < height; ++y) {
+    for (int x = 0; x < width; ++x) out(x, y) = resized.at<float>(y, x) >= 0.9f ? 255 : 0;
+  }
+  return out;
+}
+
 Rgb8Image colorize_inverse_distance(const FloatImage& inverse_distance,
                                     float max_inverse_distance) {
   cv::Mat levels(inverse_distance.height(), inverse_distance.width(), CV_8UC1);

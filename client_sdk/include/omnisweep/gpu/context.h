@@ -41,6 +41,9 @@ struct DeviceInfo {
   std::uint32_t max_shared_memory = 0;
   std::uint64_t device_local_bytes = 0;
   bool timestamps = false;
+  // shaderStorageBufferArrayDynamicIndexing: kernels may index buffer arrays with loop counters.
+  bool buffer_array_indexing = false;
+  std::uint32_t max_storage_buffers_per_stage = 0;
   double timestamp_period_ns = 0;
 };
 

@@ -28,6 +28,12 @@ void write_png(const std::filesystem::path& path, const Image<std::uint8_t>& ima
 // Writes a 1-channel float32 EXR with channel "Y" (what OpenCV's imwrite produces).
 void write_exr(const std::filesystem::path& path, const FloatImage& image);
 
+// Area-averaging resize (OpenCV INTER_AREA), rounded to 8 bits; any channel count.
+Image<std::uint8_t> resize_area(const Image<std::uint8_t>& image, int width, int height);
+// ALGORITHM.md §2: a mask resized (area) to width x height and read as [0, 1] is usable where
+// >= 0.9; returns 255 there, else 0.
+Gray8Image usable_mask(const Gray8Image& mask, int width, int height);
+
 // Maps inverse distance in [0, max_inverse_distance] m^-1 to the turbo colour map (far = dark
 // blue, near = red) for people to look at; non-finite or negative values become black.
 Rgb8Image colorize_inverse_distance(const FloatImage& inverse_distance, float max_inverse_distance);

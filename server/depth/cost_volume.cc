@@ -1,0 +1,70 @@
+#include "server/depth/cost_volume.h"
+
+#include <algorithm>
+
+namespace omnisweep::depth {
+
+VolumeLayout plan_volume(const gpu::Context& context, int width, int height, int channels) {
+  const std::uint64_t limit = context.info().max_storage_buffer_range;
+  const std::uint64_t pixel_bytes = std::uint64_t(width) * height * sizeof(float);
+  int per_chunk = std::min(channels, kMaxChannelsPerChunk);
+  while (per_chunk > 1 && pixel_bytes * per_chunk > limit) per_chunk = (per_chunk + 1) / 2;
+  const int chunks = (channels + per_chunk - 1) / per_chunk;
+  if (pixel_bytes * per_chunk > limit || chunks > kMaxChunks) {
+    throw gpu::GpuError(std::to_string(channels) + " channels at " + std::to_string(width) + "x" +
+                        std::to_string(height) + " do not fit in " + std::to_string(kMaxChunks) +
+                        " buffers of at most " + std::to_string(limit >> 20) +
+                        " MiB (maxStorageBufferRange of " + context.info().name +
+                        "); lower the matching resolution or the number of candidates");
+  }
+  return {per_chunk, chunks};
+}
+
+CostVolume::CostVolume(gpu::Context& context, int width, int height, VolumeLayout layout)
+    : width_(width), height_(height), layout_(layout) {
+  for (int c = 0; c < layout.chunks; ++c) {
+    chunks_.emplace_back(context,
+                         std::uint64_t(width) * height * layout.channels_per_chunk * sizeof(float));
+  }
+}
+
+std::uint64_t CostVolume::bytes() const {
+  std::uint64_t total = 0;
+  for (const auto& c : chunks_) total += c.size();
+  return total;
+}
+
+std::vector<const gpu::Buffer*> CostVolume::binding(const gpu::Buffer& dummy) const {
+  std::vector<const gpu::Buffer*> out(kMaxChunks, &dummy);
+  for (std::size_t c = 0; c < chunks_.size(); ++c) out[c] = &chunks_[c];
+  return out;
+}
+
+std::vector<float> CostVolume::download(int channels) const {
+  const std::size_t pixels = std::size_t(width_) * height_;
+  const int k = layout_.channels_per_chunk;
+  std::vector<float> out(pixels * channels);
+  for (int c = 0; c < layout_.chunks; ++c) {
+    const std::vector<float> chunk = chunks_[c].download<float>();
+    for (std::size_t p = 0; p < pixels; ++p) {
+      for (int j = 0; j < k && c * k + j < channels; ++j)
+        out[p * channels + c * k + j] = chunk[p * k + j];
+    }
+  }
+  return out;
+}
+
+void CostVolume::upload(const std::vector<float>& values, int channels) {
+  const std::size_t pixels = std::size_t(width_) * height_;
+  const int k = layout_.channels_per_chunk;
+  for (int c = 0; c < layout_.chunks; ++c) {
+    std::vector<float> chunk(pixels * k, 0.0f);
+    for (std::size_t p = 0; p < pixels; ++p) {
+      for (int j = 0; j < k && c * k + j < channels; ++j)
+        chunk[p * k + j] = values[p * channels + c * k + j];
+    }
+    chunks_[c].upload(std::span<const float>(chunk));
+  }
+}
+
+}  // namespace omnisweep::depth

@@ -1,0 +1,49 @@
+// A cost volume on the GPU: width x height pixels x `candidates` floats, split into chunks of
+// channels_per_chunk candidates so that no buffer exceeds the device's maxStorageBufferRange
+// (see shaders/include/volume.glsl). Also used for any multi-channel image the ISB filter takes.
+#pragma once
+
+#include <vector>
+
+#include "omnisweep/gpu/buffer.h"
+
+namespace omnisweep::depth {
+
+inline constexpr int kMaxChunks =
+    8;  // shaders/include/volume.glsl; 2 + 2 x 8 bindings fit the 32 of lavapipe
+inline constexpr int kMaxChannelsPerChunk = 32;
+
+struct VolumeLayout {
+  int channels_per_chunk = 1;
+  int chunks = 1;
+  int channels() const { return channels_per_chunk * chunks; }  // candidates plus padding
+};
+
+// The layout for `channels` channels at width x height on this device; throws GpuError when even
+// one channel per chunk needs more than kMaxChunks chunks.
+VolumeLayout plan_volume(const gpu::Context& context, int width, int height, int channels);
+
+class CostVolume {
+ public:
+  CostVolume(gpu::Context& context, int width, int height, VolumeLayout layout);
+
+  int width() const { return width_; }
+  int height() const { return height_; }
+  const VolumeLayout& layout() const { return layout_; }
+  std::vector<gpu::Buffer>& chunks() { return chunks_; }
+  std::uint64_t bytes() const;
+  // The chunk array as bound by the kernels: unused slots point at `dummy`.
+  std::vector<const gpu::Buffer*> binding(const gpu::Buffer& dummy) const;
+
+  // Host copies in the layout candidate-major per pixel: out[p * channels + i], i < channels.
+  std::vector<float> download(int channels) const;
+  void upload(const std::vector<float>& values, int channels);
+
+ private:
+  int width_;
+  int height_;
+  VolumeLayout layout_;
+  std::vector<gpu::Buffer> chunks_;
+};
+
+}  // namespace omnisweep::depth

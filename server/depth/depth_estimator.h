@@ -1,0 +1,79 @@
+// Distance estimation on the GPU (paper §3.1-3.2, ALGORITHM.md §3): camera selection once per
+// calibration, then per frame and reference camera: YCbCr guide, sphere sweep + L1 cost, the
+// ISB filter over every candidate, winner-takes-all with the parabola step, and the distance
+// post-filter. References are processed one after the other and share one full-resolution
+// cost volume, so exactly one volume is alive at any time.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "omnisweep/gpu/kernel.h"
+#include "omnisweep/gpu/sequence.h"
+#include "omnisweep/image/image.h"
+#include "omnisweep/rig/rig.h"
+#include "server/depth/cost_volume.h"
+#include "server/depth/depth_options.h"
+#include "server/depth/isb_filter.h"
+
+namespace omnisweep::depth {
+
+struct DepthResult {
+  std::vector<FloatImage> distance;  // per reference, metres, matching resolution
+  std::vector<std::pair<std::string, double>> stage_ms;  // GPU time per stage (both references)
+};
+
+class DepthEstimator {
+ public:
+  // `rig` is the calibration at the matching resolution (Rig::resized); `usable` holds, per
+  // camera, a mask at that resolution (non-zero = usable, ALGORITHM.md §2) or nullopt (all usable).
+  // Throws std::invalid_argument for bad options, GpuError when the device cannot do it.
+  DepthEstimator(gpu::Context& context, const Rig& rig,
+                 const std::vector<std::optional<Gray8Image>>& usable, const DepthOptions& options);
+
+  // Images: one RGB image per camera at the matching resolution.
+  DepthResult estimate(const std::vector<const Rgb8Image*>& images);
+
+  // Stage by stage, for tests and benchmarks: the camera selection map of reference slot `slot`
+  // (-1 = none), and the cost volume of the last uploaded images, raw or ISB-filtered, as
+  // out[p * N + i].
+  Image<std::int32_t> selection(int slot) const;
+  std::vector<float> cost_volume(const std::vector<const Rgb8Image*>& images, int slot,
+                                 bool filtered);
+
+  const DepthOptions& options() const { return options_; }
+  const VolumeLayout& volume_layout() const { return volume_.layout(); }
+  // Device memory held by this estimator, bytes.
+  std::uint64_t gpu_bytes() const;
+
+ private:
+  void upload_images(const std::vector<const Rgb8Image*>& images);
+  void record_reference(gpu::Sequence& seq, int slot, bool filter, bool finish);
+
+  gpu::Context* context_;
+  std::uint64_t allocated_before_;  // device memory in use before this estimator
+  DepthOptions options_;
+  Rig rig_;
+  int width_;
+  int height_;
+  VolumeLayout layout_;
+  gpu::Kernel selection_kernel_;
+  gpu::Kernel guide_kernel_;
+  gpu::Kernel sweep_kernel_;
+  gpu::Kernel wta_kernel_;
+  CostVolume volume_;      // the one full-resolution cost volume
+  IsbFilter filter_;       // its pyramid
+  IsbFilter post_filter_;  // one channel, for the distance maps
+  gpu::Buffer images_;     // RGBA8 per camera
+  gpu::Buffer guide_;
+  gpu::Buffer dummy_;
+  std::vector<gpu::Buffer> cameras_;     // per reference slot
+  std::vector<gpu::Buffer> selections_;  // per reference slot
+  std::vector<CostVolume> distances_;    // per reference slot, one channel
+  gpu::Sequence sequence_;
+  std::uint64_t gpu_bytes_ = 0;  // held after construction
+};
+
+}  // namespace omnisweep::depth

@@ -1,0 +1,197 @@
+// Distance estimation end to end on synthetic frames with exact ground truth.
+#include "server/depth/depth_estimator.h"
+
+#include <gtest/gtest.h>
+
+#include "server/depth/depth_reference.h"
+#include "server/depth/depth_test_support.h"
+#include "tests/support/gpu_test_support.h"
+
+namespace omnisweep::depth {
+namespace {
+
+using omnisweep::testing::ValidatedGpuTest;
+using DepthEstimatorTest = ValidatedGpuTest;
+
+// Largest minus smallest value in the 5x5 window around (x, y), over the three channels;
+// -1 when the window leaves the lens (the black outside it is no texture).
+int local_contrast(const Rgb8Image& im, const Gray8Image& usable, int x, int y) {
+  int worst = 0;
+  for (int k = 0; k < 3; ++k) {
+    int lo = 255, hi = 0;
+    for (int dy = -2; dy <= 2; ++dy)
+      for (int dx = -2; dx <= 2; ++dx) {
+        if (!usable.contains(x + dx, y + dy) || !usable(x + dx, y + dy)) return -1;
+        const int v = im(x + dx, y + dy, k);
+        lo = std::min(lo, v);
+        hi = std::max(hi, v);
+      }
+    worst = std::max(worst, hi - lo);
+  }
+  return worst;
+}
+
+// Whether the surface seen at reference pixel (x, y) is visible in camera `other`: its own
+// ground truth sees the same distance there (else the point is occluded and no cost can match).
+bool visible_in_selected(const testing::SyntheticDepthCase& scene, int ref, int other, int x,
+                         int y) {
+  const Rig& rig = scene.rig.rig();
+  Eigen::Vector3d ray;
+  if (!rig.cameras[ref].model.unproject(Eigen::Vector2d(x, y), &ray)) return false;
+  const Eigen::Vector3d p = rig.cam_from_cam(other, ref) * (ray / scene.inverse_gt[ref](x, y));
+  Eigen::Vector2d uv;
+  if (!rig.cameras[other].model.project(p, &uv)) return false;
+  const int u = int(std::lround(uv.x())), v = int(std::lround(uv.y()));
+  if (!scene.inverse_gt[other].contains(u, v)) return false;
+  return std::abs(scene.inverse_gt[other](u, v) * p.norm() - 1.0) < 0.02;
+}
+
+TEST_F(DepthEstimatorTest, RawCostIsMinimalAtTheTrueCandidateOnTexturedPixels) {
+  // Measured (synthetic hall, 32 candidates): at 384, 512 and 1024 px one of the two candidates
+  // around the true distance has the lowest cost, within 2 levels, for 68-73 % of textured,
+  // visible, depth-smooth pixels; the first argmin alone falls there for 42-50 %. The rest are
+  // single-pixel ambiguities the filter is there to resolve: repeated tiles and paint-plain
+  // stretches of the epipolar curve, where a far-off candidate also costs 0-2.
+  const int size = 512;
+  const auto scene = testing::render_depth_case(size);
+  DepthOptions options;
+  options.matching_width = options.matching_height = size;
+  DepthEstimator estimator(context(), scene.rig.rig(), scene.usable, options);
+  const int n = options.num_candidates;
+  for (std::size_t slot = 0; slot < 2; ++slot) {
+    const int ref = options.references[slot];
+    const std::vector<float> cost = estimator.cost_volume(scene.image_pointers(), int(slot), false);
+    const Image<std::int32_t> selected = estimator.selection(int(slot));
+    const FloatImage& gt = scene.inverse_gt[ref];
+    long counted = 0, correct = 0, strict = 0;
+    for (int y = 2; y < size - 2; ++y) {
+      for (int x = 2; x < size - 2; ++x) {
+        if (selected(x, y) < 0 || gt(x, y) <= 0 ||
+            local_contrast(scene.images[ref], *scene.usable[ref], x, y) < 24)
+          continue;
+        // Skip depth edges: the 3x3 ground truth must be smooth.
+        float lo = gt(x, y), hi = gt(x, y);
+        for (int d = -1; d <= 1; ++d) {
+          lo = std::min({lo, gt(x + d, y), gt(x, y + d)});
+          hi = std::max({hi, gt(x + d, y), gt(x, y + d)});
+        }
+        if (hi - lo > 0.02f) continue;
+        if (!visible_in_selected(scene, ref, selected(x, y), x, y)) continue;
+        const double k = (gt(x, y) - 1.0 / options.min_distance) /
+                         (1.0 / options.max_distance - 1.0 / options.min_distance) * (n - 1);
+        const float* c = &cost[(std::size_t(y) * size + x) * n];
+        const int best = int(std::min_element(c, c + n) - c);
+        // The true distance lies between candidates floor(k) and ceil(k): one of them should
+        // have the lowest cost, ties (plain paint, repeated tiles) included.
+        const int below = std::clamp(int(std::floor(k)), 0, n - 1),
+                  above = std::clamp(int(std::ceil(k)), 0, n - 1);
+        ++counted;
+        correct += std::min(c[below], c[above]) <= c[best] + 2.0f;
+        strict += std::abs(best - k) < 1.0;
+      }
+    }
+    const double rate = double(correct) / double(counted);
+
+    std::cout << "reference " << ref << ": raw cost minimal (within 2) at the true candidates for "
+              << 100 * rate << " % of " << counted
+              << " textured pixels; the first minimum alone lies there for "
+              << 100.0 * strict / counted << " %\n";
+    EXPECT_GT(counted, 20000);
+    EXPECT_GT(rate, 0.62);
+  }
+}
+
+TEST_F(DepthEstimatorTest, WinnerTakesAllEqualsCpu) {
+  const auto scene = testing::render_depth_case(96);
+  DepthOptions options;
+  options.matching_width = options.matching_height = 96;
+  options.post_filter = false;
+  DepthEstimator estimator(context(), scene.rig.rig(), scene.usable, options);
+  const auto filtered = estimator.cost_volume(scene.image_pointers(), 0, true);
+  const DepthResult result = estimator.estimate(scene.image_pointers());
+  double worst = 0;
+  for (int p = 0; p < 96 * 96; ++p) {
+    const float cpu =
+        winner_take_all_cpu(&filtered[std::size_t(p) * options.num_candidates], options);
+    worst = std::max(worst, std::abs(1.0 / result.distance[0].data()[p] - 1.0 / cpu));
+  }
+  std::cout << "winner takes all vs CPU: largest inverse-distance difference " << worst
+            << " m^-1\n";
+  EXPECT_LT(worst, 1e-4);
+}
+
+struct Accuracy {
+  double mae = 0, bad_0_1 = 0, bad_0_4 = 0;
+  long pixels = 0;
+};
+
+Accuracy inverse_distance_accuracy(const FloatImage& distance, const FloatImage& inverse_gt,
+                                   const Gray8Image& usable) {
+  Accuracy a;
+  for (int y = 0; y < distance.height(); ++y) {
+    for (int x = 0; x < distance.width(); ++x) {
+      if (!usable(x, y) || inverse_gt(x, y) <= 0) continue;
+      const double e = std::abs(1.0 / distance(x, y) - inverse_gt(x, y));
+      a.mae += e;
+      a.bad_0_1 += e > 0.1;
+      a.bad_0_4 += e > 0.4;
+      ++a.pixels;
+    }
+  }
+  a.mae /= a.pixels;
+  a.bad_0_1 /= a.pixels;
+  a.bad_0_4 /= a.pixels;
+  return a;
+}
+
+// Measured on lavapipe, 512 px matching, defaults otherwise (frames 0 and 120, references 2, 3):
+// MAE 0.018-0.043 m^-1, > 0.1: 0.35-9.3 %, > 0.4: 0-1.6 % of the pixels inside the lenses.
+// Frame 0 is the harder one: the near sphere at 0.7 m and plain ceiling above it.
+TEST_F(DepthEstimatorTest, FisheyeDistanceMatchesGroundTruth) {
+  for (const int frame : {0, 120}) {
+    const auto scene = testing::render_depth_case(512, frame);
+    DepthOptions options;
+    options.matching_width = options.matching_height = 512;
+    DepthEstimator estimator(context(), scene.rig.rig(), scene.usable, options);
+    const DepthResult result = estimator.estimate(scene.image_pointers());
+    ASSERT_EQ(result.distance.size(), 2u);
+    for (std::size_t slot = 0; slot < 2; ++slot) {
+      const int ref = options.references[slot];
+      const Accuracy a = inverse_distance_accuracy(result.distance[slot], scene.inverse_gt[ref],
+                                                   *scene.usable[ref]);
+      std::cout << "frame " << frame << " reference " << ref << ": MAE " << a.mae
+                << " m^-1, >0.1: " << 100 * a.bad_0_1 << " %, >0.4: " << 100 * a.bad_0_4
+                << " % over " << a.pixels << " pixels\n";
+      EXPECT_LT(a.mae, 0.05);
+      EXPECT_LT(a.bad_0_1, 0.11);
+      EXPECT_LT(a.bad_0_4, 0.02);
+    }
+    for (const auto& [stage, ms] : result.stage_ms)
+      std::cout << "  " << stage << ": " << ms << " ms\n";
+  }
+}
+
+TEST_F(DepthEstimatorTest, RejectsBadInput) {
+  const auto scene = testing::render_depth_case(64);
+  DepthOptions options;
+  options.matching_width = options.matching_height = 64;
+  options.references = {2, 9};
+  EXPECT_THROW(DepthEstimator(context(), scene.rig.rig(), scene.usable, options),
+               std::invalid_argument);
+  options.references = {2, 3};
+  options.num_candidates = 1;
+  EXPECT_THROW(DepthEstimator(context(), scene.rig.rig(), scene.usable, options),
+               std::invalid_argument);
+  options.num_candidates = 32;
+  options.matching_width = 128;  // rig is at 64
+  EXPECT_THROW(DepthEstimator(context(), scene.rig.rig(), scene.usable, options),
+               std::invalid_argument);
+  options.matching_width = 64;
+  DepthEstimator estimator(context(), scene.rig.rig(), scene.usable, options);
+  std::vector<const Rgb8Image*> three = scene.image_pointers();
+  three.pop_back();
+  EXPECT_THROW(estimator.estimate(three), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace omnisweep::depth

@@ -1,0 +1,39 @@
+#include "server/depth/depth_options.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+namespace omnisweep::depth {
+
+void DepthOptions::check(int num_cameras) const {
+  auto fail = [](const std::string& what) { throw std::invalid_argument(what); };
+  if (references.empty()) fail("references: at least one reference camera is needed");
+  for (std::size_t i = 0; i < references.size(); ++i) {
+    const int r = references[i];
+    if (r < 0 || r >= num_cameras) {
+      fail("references: camera " + std::to_string(r) + " does not exist (the rig has " +
+           std::to_string(num_cameras) + " cameras)");
+    }
+    if (std::count(references.begin(), references.end(), r) > 1)
+      fail("references: camera " + std::to_string(r) + " is listed twice");
+  }
+  if (num_cameras < 2) fail("a rig needs at least 2 cameras to match");
+  if (num_candidates < 2 || num_candidates > 512) {
+    fail("candidates: " + std::to_string(num_candidates) + " must be within [2, 512]");
+  }
+  if (!(min_distance > 0) || !std::isfinite(min_distance))
+    fail("min-dist: must be a positive number of metres");
+  if (!(max_distance > min_distance) || !std::isfinite(max_distance))
+    fail("max-dist: must be finite and larger than min-dist");
+  if (!(sigma_i > 0) || !std::isfinite(sigma_i)) fail("sigma-i: must be positive");
+  if (!(sigma_s > 0) || !std::isfinite(sigma_s)) fail("sigma-s: must be positive");
+  if (matching_width < 8 || matching_height < 8 || matching_width > 8192 ||
+      matching_height > 8192) {
+    fail("matching-resolution: " + std::to_string(matching_width) + "x" +
+         std::to_string(matching_height) + " must be within [8, 8192] pixels");
+  }
+}
+
+}  // namespace omnisweep::depth

@@ -1,0 +1,30 @@
+// Parameters of distance estimation (ALGORITHM.md §3), with the reference implementation's
+// defaults. check() throws std::invalid_argument naming the option that is wrong.
+#pragma once
+
+#include <vector>
+
+namespace omnisweep::depth {
+
+struct DepthOptions {
+  std::vector<int> references = {2, 3};  // cameras that get a distance map
+  int num_candidates = 32;               // distances swept per pixel
+  double min_distance = 0.55;            // d_min, metres
+  double max_distance = 100.0;           // d_max, metres
+  double sigma_i = 10.0;                 // range sigma of the ISB filter (8-bit guide units)
+  double sigma_s = 25.0;  // spatial sigma for 1024 px; scaled with the matching width
+  int matching_width = 1024;
+  int matching_height = 1024;
+  bool post_filter = true;  // step 6; off only to inspect the raw winner-takes-all
+
+  void check(int num_cameras) const;
+  // sigma_s at the matching resolution (ALGORITHM.md §3 step 4).
+  double scaled_sigma_s() const { return sigma_s * matching_width / 1024.0; }
+  // 1 / d of fractional candidate index k (k = 0: d_min, k = N - 1: d_max).
+  double inverse_distance(double k) const {
+    return 1.0 / min_distance +
+           (1.0 / max_distance - 1.0 / min_distance) * k / (num_candidates - 1);
+  }
+};
+
+}  // namespace omnisweep::depth

@@ -1,0 +1,253 @@
+#include "server/depth/depth_reference.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace omnisweep::depth {
+namespace {
+
+bool usable_at(const std::vector<std::optional<Gray8Image>>& usable, int camera,
+               const RigCamera& cam, const Eigen::Vector2d& uv, bool* fragile) {
+  const double fx = std::floor(uv.x() + 0.5), fy = std::floor(uv.y() + 0.5);
+  // Within 1e-3 px of a rounding boundary (k + 0.5) or of the image edge, float may decide
+  // otherwise.
+  for (double v : {uv.x(), uv.y()}) {
+    if (std::abs(v - std::floor(v) - 0.5) < 2e-4) *fragile = true;
+  }
+  if (fx < 0 || fy < 0 || fx >= cam.width || fy >= cam.height) return false;
+  if (usable.empty() || !usable[camera]) return true;
+  return (*usable[camera])(int(fx), int(fy)) != 0;
+}
+
+std::array<float, 3> rgb_at(const Rgb8Image& im, int x, int y) {
+  if (x < 0 || y < 0 || x >= im.width() || y >= im.height()) return {0, 0, 0};
+  return {float(im(x, y, 0)), float(im(x, y, 1)), float(im(x, y, 2))};
+}
+
+std::array<float, 3> unpack(std::uint32_t g) {
+  return {float(g & 255), float((g >> 8) & 255), float((g >> 16) & 255)};
+}
+
+// In float, like the shader, so that 8-bit guide rounding decides the same way.
+float range_weight(std::uint32_t a, std::uint32_t b, float inv_two_sigma_sq) {
+  const auto ga = unpack(a), gb = unpack(b);
+  const float g = std::abs(ga[0] - gb[0]) + std::abs(ga[1] - gb[1]) + std::abs(ga[2] - gb[2]);
+  return std::exp(-g * g * inv_two_sigma_sq) + 0.01f;
+}
+
+std::uint32_t round_pack(const std::array<float, 3>& v) {
+  std::uint32_t out = 0;
+  for (int k = 0; k < 3; ++k)
+    out |= std::uint32_t(std::clamp(std::floor(v[k] + 0.5f), 0.0f, 255.0f)) << (8 * k);
+  return out;
+}
+
+}  // namespace
+
+SelectionReference select_cameras_cpu(const Rig& rig, int reference,
+                                      const std::vector<std::optional<Gray8Image>>& usable,
+                                      double d_min, double d_max) {
+  const RigCamera& ref = rig.cameras[reference];
+  SelectionReference out{Image<std::int32_t>(ref.width, ref.height, 1, -1),
+                         Image<std::uint8_t>(ref.width, ref.height, 1, 0)};
+  for (int y = 0; y < ref.height; ++y) {
+    for (int x = 0; x < ref.width; ++x) {
+      bool fragile = false;
+      Eigen::Vector3d ray;
+      if (!usable_at(usable, reference, ref, Eigen::Vector2d(x, y), &fragile)) continue;
+      if (!ref.model.unproject(Eigen::Vector2d(x, y), &ray)) continue;
+      if (std::abs(std::acos(std::clamp(ray.z(), -1.0, 1.0)) - ref.model.max_angle()) < 1e-4)
+        fragile = true;
+      double best = 1.0, second = 0.0;
+      int chosen = -1;
+      for (int c = 0; c < rig.num_cameras(); ++c) {
+        if (c == reference) continue;
+        const RigCamera& cam = rig.cameras[c];
+        const Rigid3d cam_from_ref = rig.cam_from_cam(c, reference);
+        Eigen::Vector2d near_uv, far_uv;
+        const Eigen::Vector3d near_p = cam_from_ref * (ray * d_min),
+                              far_p = cam_from_ref * (ray * d_max);
+        const bool near_ok = cam.model.project(near_p, &near_uv),
+                   far_ok = cam.model.project(far_p, &far_uv);
+        for (const Eigen::Vector3d& p : {near_p, far_p}) {
+          if (std::abs(std::acos(std::clamp(p.normalized().z(), -1.0, 1.0)) -
+                       cam.model.max_angle()) < 1e-4)
+            fragile = true;
+        }
+        if (!near_ok || !far_ok) continue;
+        const bool near_usable = usable_at(usable, c, cam, near_uv, &fragile);
+        const bool far_usable = usable_at(usable, c, cam, far_uv, &fragile);
+        if (!near_usable || !far_usable) continue;
+        const double displacement = (far_uv - near_uv).norm();
+        if (std::abs(displacement - 1.0) < 1e-3) fragile = true;
+        if (displacement > best) {
+          second = std::max(second, best);
+          best = displacement;
+          chosen = c;
+        } else {
+          second = std::max(second, displacement);
+        }
+      }
+      if (chosen >= 0 && best - second < 1e-3) fragile = true;
+      out.selected(x, y) = chosen;
+      out.fragile(x, y) = fragile ? 1 : 0;
+    }
+  }
+  return out;
+}
+
+std::vector<float> sweep_cost_cpu(const Rig& rig, int reference, int selected,
+                                  const std::vector<const Rgb8Image*>& images,
+                                  const DepthOptions& options, int x, int y) {
+  std::vector<float> costs(options.num_candidates, 0.0f);
+  Eigen::Vector3d ray;
+  if (selected < 0 || !rig.cameras[reference].model.unproject(Eigen::Vector2d(x, y), &ray))
+    return costs;
+  const auto ref_rgb = rgb_at(*images[reference], x, y);
+  const RigCamera& cam = rig.cameras[selected];
+  const Rigid3d cam_from_ref = rig.cam_from_cam(selected, reference);
+  for (int i = 0; i < options.num_candidates; ++i) {
+    const double distance = 1.0 / options.inverse_distance(i);
+    Eigen::Vector2d uv;
+    std::array<float, 3> rgb = {0, 0, 0};
+    if (cam.model.project(cam_from_ref * (ray * distance), &uv) && uv.x() > -2 && uv.y() > -2 &&
+        uv.x() < cam.width + 1 && uv.y() < cam.height + 1) {
+      const int x0 = int(std::floor(uv.x())), y0 = int(std::floor(uv.y()));
+      const double tx = uv.x() - x0, ty = uv.y() - y0;
+      const Rgb8Image& im = *images[selected];
+      for (int k = 0; k < 3; ++k) {
+        const double top = (1 - tx) * rgb_at(im, x0, y0)[k] + tx * rgb_at(im, x0 + 1, y0)[k];
+        const double bottom =
+            (1 - tx) * rgb_at(im, x0, y0 + 1)[k] + tx * rgb_at(im, x0 + 1, y0 + 1)[k];
+        rgb[k] = float((1 - ty) * top + ty * bottom);
+      }
+    }
+    costs[i] = std::min(std::abs(rgb[0] - ref_rgb[0]) + std::abs(rgb[1] - ref_rgb[1]) +
+                            std::abs(rgb[2] - ref_rgb[2]),
+                        500.0f);
+  }
+  return costs;
+}
+
+std::vector<std::uint32_t> ycbcr_guide_cpu(const Rgb8Image& rgb) {
+  std::vector<std::uint32_t> out(std::size_t(rgb.width()) * rgb.height());
+  for (std::size_t p = 0; p < out.size(); ++p) {
+    const double r = rgb.data()[3 * p], g = rgb.data()[3 * p + 1], b = rgb.data()[3 * p + 2];
+    const double y = std::clamp(16 + 0.1826 * r + 0.6142 * g + 0.0620 * b, 16.0, 235.0);
+    const double cb = std::clamp(128 - 0.1006 * r - 0.3386 * g + 0.4392 * b, 16.0, 240.0);
+    const double cr = std::clamp(128 + 0.4392 * r - 0.3989 * g - 0.0403 * b, 16.0, 240.0);
+    out[p] = round_pack({float(y), float(cb), float(cr)});
+  }
+  return out;
+}
+
+std::vector<float> isb_filter_cpu(std::vector<std::uint32_t> guide, std::vector<float> values,
+                                  int width, int height, int channels, double sigma_i,
+                                  double sigma_s) {
+  // Single precision throughout, in the order the shaders sum, as a GPU computes it.
+  const float inv2s = float(1.0 / (2 * sigma_i * sigma_i));
+  const int levels = std::max(1, int(std::floor(std::log2(double(std::min(width, height))))) - 1);
+  std::vector<int> w{width}, h{height};
+  std::vector<std::vector<std::uint32_t>> g{std::move(guide)};
+  std::vector<std::vector<float>> v{std::move(values)};
+  for (int l = 0; l + 1 < levels; ++l) {  // down
+    const int cw = (w[l] + 1) / 2, ch = (h[l] + 1) / 2;
+    std::vector<std::uint32_t> cg(std::size_t(cw) * ch);
+    std::vector<float> cv(std::size_t(cw) * ch * channels);
+    for (int y = 0; y < ch; ++y) {
+      for (int x = 0; x < cw; ++x) {
+        const std::uint32_t centre = g[l][std::size_t(2 * y) * w[l] + 2 * x];
+        float total = 0;
+        std::array<float, 3> gsum = {0, 0, 0};
+        std::vector<float> acc(channels, 0.0f);
+        for (int dy = -1; dy <= 1; ++dy) {
+          for (int dx = -1; dx <= 1; ++dx) {
+            const int qx = std::clamp(2 * x + dx, 0, w[l] - 1),
+                      qy = std::clamp(2 * y + dy, 0, h[l] - 1);
+            const std::size_t q = std::size_t(qy) * w[l] + qx;
+            const int manhattan = std::abs(dx) + std::abs(dy);
+            const float weight = manhattan == 0 ? 1.0f
+                                                : (manhattan == 1 ? 0.5f : 0.25f) *
+                                                      range_weight(centre, g[l][q], inv2s);
+            total += weight;
+            const auto gq = unpack(g[l][q]);
+            for (int k = 0; k < 3; ++k) gsum[k] += weight * gq[k];
+            for (int c = 0; c < channels; ++c) acc[c] += weight * v[l][q * channels + c];
+          }
+        }
+        const std::size_t o = std::size_t(y) * cw + x;
+        cg[o] = round_pack({gsum[0] / total, gsum[1] / total, gsum[2] / total});
+        const float inv_total = 1.0f / total;
+        for (int c = 0; c < channels; ++c) cv[o * channels + c] = acc[c] * inv_total;
+      }
+    }
+    w.push_back(cw);
+    h.push_back(ch);
+    g.push_back(std::move(cg));
+    v.push_back(std::move(cv));
+  }
+  for (int l = levels - 2; l >= 0; --l) {  // up
+    const double scale = std::ldexp(1.0, l) - 0.5;
+    const float w_down = float(std::exp(-scale * scale / (2 * sigma_s * sigma_s))),
+                w_up = 1.0f - w_down;
+    const int cw = w[l + 1], ch = h[l + 1];
+    for (int fy = 0; fy < h[l]; ++fy) {
+      for (int fx = 0; fx < w[l]; ++fx) {
+        const int x = fx / 2, y = fy / 2;
+        std::vector<std::pair<std::array<int, 2>, float>> neighbours;
+        if (fx % 2 == 0 && fy % 2 == 0) {
+          for (int j = 0; j < 9; ++j)
+            neighbours.push_back({{x + j % 3 - 1, y + j / 3 - 1}, j == 4 ? 8.0f : 1.0f});
+        } else if (fx % 2 == 0) {
+          neighbours = {{{x, y}, 8},         {{x, y + 1}, 8}, {{x - 1, y}, 1},
+                        {{x - 1, y + 1}, 1}, {{x + 1, y}, 1}, {{x + 1, y + 1}, 1}};
+        } else if (fy % 2 == 0) {
+          neighbours = {{{x, y}, 8},         {{x + 1, y}, 8}, {{x, y - 1}, 1},
+                        {{x + 1, y - 1}, 1}, {{x, y + 1}, 1}, {{x + 1, y + 1}, 1}};
+        } else {
+          neighbours = {{{x, y}, 1}, {{x + 1, y}, 1}, {{x, y + 1}, 1}, {{x + 1, y + 1}, 1}};
+        }
+        const std::size_t f = std::size_t(fy) * w[l] + fx;
+        const std::uint32_t own = g[l][f];
+        const auto go = unpack(own);
+        float total = w_up;
+        std::array<float, 3> gsum = {w_up * go[0], w_up * go[1], w_up * go[2]};
+        std::vector<std::size_t> index;
+        std::vector<float> weight;
+        for (const auto& [xy, spatial] : neighbours) {
+          const std::size_t q =
+              std::size_t(std::clamp(xy[1], 0, ch - 1)) * cw + std::clamp(xy[0], 0, cw - 1);
+          index.push_back(q);
+          weight.push_back(w_down * spatial * range_weight(own, g[l + 1][q], inv2s));
+          total += weight.back();
+          const auto gq = unpack(g[l + 1][q]);
+          for (int k = 0; k < 3; ++k) gsum[k] += weight.back() * gq[k];
+        }
+        const float inv_total = 1.0f / total;
+        for (int c = 0; c < channels; ++c) {
+          float sum = w_up * v[l][f * channels + c];
+          for (std::size_t j = 0; j < index.size(); ++j)
+            sum += weight[j] * v[l + 1][index[j] * channels + c];
+          v[l][f * channels + c] = sum * inv_total;
+        }
+        g[l][f] = round_pack({gsum[0] * inv_total, gsum[1] * inv_total, gsum[2] * inv_total});
+      }
+    }
+  }
+  return std::move(v[0]);
+}
+
+float winner_take_all_cpu(const float* costs, const DepthOptions& options) {
+  const int n = options.num_candidates;
+  const auto [lo, hi] = std::minmax_element(costs, costs + n);
+  if (*lo == *hi) return float(options.max_distance);
+  const int best = int(lo - costs);
+  double delta = 0;
+  if (best > 0 && best + 1 < n) {
+    const double a = costs[best - 1], b = costs[best + 1], c = costs[best];
+    delta = std::clamp(0.5 * (a - b) / (a + b - 2 * c + 1e-8), -0.5, 0.5);
+  }
+  return float(1.0 / options.inverse_distance(best + delta));
+}
+
+}  // namespace omnisweep::depth

@@ -1,0 +1,49 @@
+// Plain C++ versions of every depth kernel (ALGORITHM.md §3-4), written for clarity, not speed:
+// the tests compare the shaders against them, and the benchmark uses winner_take_all_cpu on
+// volumes filtered by other methods.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+#include "omnisweep/image/image.h"
+#include "omnisweep/rig/rig.h"
+#include "server/depth/depth_options.h"
+
+namespace omnisweep::depth {
+
+struct SelectionReference {
+  Image<std::int32_t> selected;  // -1 = none
+  // 1 where the decision is within rounding of a tie or a boundary (two cameras within 1e-3 px
+  // of displacement, displacement within 1e-3 px of the 1 px threshold, a projection within
+  // 2e-4 px of a pixel-rounding boundary, a ray within 1e-4 rad of a lens' valid cone); float
+  // and double may then legitimately differ.
+  Image<std::uint8_t> fragile;
+};
+
+// ALGORITHM.md §3 step 2 in double precision; `usable` as for DepthEstimator.
+SelectionReference select_cameras_cpu(const Rig& rig, int reference,
+                                      const std::vector<std::optional<Gray8Image>>& usable,
+                                      double d_min, double d_max);
+
+// The N matching costs of reference pixel (x, y) (ALGORITHM.md §3 step 3).
+std::vector<float> sweep_cost_cpu(const Rig& rig, int reference, int selected,
+                                  const std::vector<const Rgb8Image*>& images,
+                                  const DepthOptions& options, int x, int y);
+
+// BT.709 studio-range YCbCr of an RGB image, packed as the shaders' guide (y | cb << 8 | cr << 16).
+std::vector<std::uint32_t> ycbcr_guide_cpu(const Rgb8Image& rgb);
+
+// The ISB filter (ALGORITHM.md §4) on width x height pixels of `channels` floats
+// (values[p * channels + c]), guided by packed 8-bit guides; returns the filtered values.
+// Computed in float in the shaders' order of summation, so that the 8-bit rounding of guides
+// decides the same way as on a GPU.
+std::vector<float> isb_filter_cpu(std::vector<std::uint32_t> guide, std::vector<float> values,
+                                  int width, int height, int channels, double sigma_i,
+                                  double sigma_s);
+
+// Winner takes all with the parabola step on one pixel's N costs: the distance in metres.
+float winner_take_all_cpu(const float* costs, const DepthOptions& options);
+
+}  // namespace omnisweep::depth

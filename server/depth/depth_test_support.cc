@@ -1,0 +1,45 @@
+#include "server/depth/depth_test_support.h"
+
+#include <numbers>
+
+#include "omnisweep/gpu/sequence.h"
+
+namespace omnisweep::depth::testing {
+
+std::vector<const Rgb8Image*> SyntheticDepthCase::image_pointers() const {
+  std::vector<const Rgb8Image*> out;
+  for (const auto& im : images) out.push_back(&im);
+  return out;
+}
+
+SyntheticDepthCase render_depth_case(int size, int frame, std::uint64_t seed) {
+  synthetic::SyntheticRigOptions options;
+  options.image_size = size;
+  options.seed = seed;
+  SyntheticDepthCase out{synthetic::SyntheticRig(options), {}, {}, {}};
+  const synthetic::SyntheticFrame rendered = out.rig.render(frame, 64, 32);
+  for (auto& cam : const_cast<synthetic::SyntheticFrame&>(rendered).cameras) {
+    out.images.push_back(std::move(cam.rgb));
+    out.inverse_gt.push_back(std::move(cam.inverse_distance));
+  }
+  for (auto& mask : out.rig.masks()) out.usable.emplace_back(std::move(mask));
+  return out;
+}
+
+std::vector<float> isb_filter_gpu(gpu::Context& context, const std::vector<std::uint32_t>& guide,
+                                  const std::vector<float>& values, int width, int height,
+                                  int channels, const IsbParams& params) {
+  const VolumeLayout layout = plan_volume(context, width, height, channels);
+  CostVolume volume(context, width, height, layout);
+  volume.upload(values, channels);
+  gpu::Buffer guide_buffer(context, guide.size() * 4);
+  guide_buffer.upload(std::span<const std::uint32_t>(guide));
+  IsbFilter filter(context, width, height, layout);
+  gpu::Sequence seq(context);
+  seq.begin();
+  filter.record(seq, guide_buffer, volume, params);
+  seq.submit_and_wait();
+  return volume.download(channels);
+}
+
+}  // namespace omnisweep::depth::testing

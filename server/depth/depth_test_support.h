@@ -1,0 +1,30 @@
+// Synthetic frames at the matching resolution with exact per-camera ground truth, and a helper
+// that runs the GPU ISB filter on host data, for the depth tests.
+#pragma once
+
+#include <optional>
+#include <vector>
+
+#include "omnisweep/gpu/context.h"
+#include "server/depth/isb_filter.h"
+#include "server/synthetic/synthetic_rig.h"
+
+namespace omnisweep::depth::testing {
+
+struct SyntheticDepthCase {
+  synthetic::SyntheticRig rig;                    // calibrated at the matching resolution
+  std::vector<Rgb8Image> images;                  // per camera
+  std::vector<FloatImage> inverse_gt;             // per camera, m^-1 (0 outside the lens)
+  std::vector<std::optional<Gray8Image>> usable;  // lens masks
+
+  std::vector<const Rgb8Image*> image_pointers() const;
+};
+
+SyntheticDepthCase render_depth_case(int size, int frame = 0, std::uint64_t seed = 1);
+
+// Filters `values` (width x height x channels) guided by `guide` on the GPU.
+std::vector<float> isb_filter_gpu(gpu::Context& context, const std::vector<std::uint32_t>& guide,
+                                  const std::vector<float>& values, int width, int height,
+                                  int channels, const IsbParams& params);
+
+}  // namespace omnisweep::depth::testing

@@ -1,0 +1,91 @@
+#include "server/depth/isb_filter.h"
+
+#include <cmath>
+
+namespace omnisweep::depth {
+namespace {
+
+gpu::KernelLayout isb_layout(VolumeLayout layout, std::uint32_t push_bytes) {
+  return {.bindings = {1, 1, kMaxChunks, kMaxChunks},
+          .push_constant_bytes = push_bytes,
+          .local_size = {8, 8, 1},
+          .constants = {gpu::SpecConstant::of(0, std::uint32_t(layout.channels_per_chunk)),
+                        gpu::SpecConstant::of(1, std::uint32_t(layout.chunks))}};
+}
+
+struct DownPush {
+  std::uint32_t fine_width, fine_height, coarse_width, coarse_height;
+  float inv_two_sigma_sq;
+};
+
+struct UpPush {
+  std::uint32_t fine_width, fine_height, coarse_width, coarse_height;
+  float inv_two_sigma_sq;
+  float w_down;
+};
+
+}  // namespace
+
+int isb_levels(int width, int height) {
+  const int log2_min = int(std::floor(std::log2(double(std::min(width, height)))));
+  return std::max(1, log2_min - 1);
+}
+
+IsbFilter::IsbFilter(gpu::Context& context, int width, int height, VolumeLayout layout)
+    : context_(&context),
+      layout_(layout),
+      dummy_(context, 16),
+      down_(context, "isb_downsample", isb_layout(layout, sizeof(DownPush))),
+      up_(context, "isb_upsample", isb_layout(layout, sizeof(UpPush))) {
+  if (!context.info().buffer_array_indexing) {
+    throw gpu::GpuError(context.info().name +
+                        " lacks shaderStorageBufferArrayDynamicIndexing, which the filter needs");
+  }
+  sizes_.emplace_back(width, height);
+  for (int l = 1; l < isb_levels(width, height); ++l) {
+    const auto [w, h] = sizes_.back();
+    sizes_.emplace_back((w + 1) / 2, (h + 1) / 2);
+    guides_.emplace_back(context, std::uint64_t(sizes_.back().first) * sizes_.back().second * 4);
+    volumes_.emplace_back(context, sizes_.back().first, sizes_.back().second, layout);
+  }
+}
+
+std::uint64_t IsbFilter::bytes() const {
+  std::uint64_t total = dummy_.size();
+  for (const auto& g : guides_) total += g.size();
+  for (const auto& v : volumes_) total += v.bytes();
+  return total;
+}
+
+void IsbFilter::record(gpu::Sequence& seq, gpu::Buffer& guide, CostVolume& volume,
+                       const IsbParams& params) {
+  const float inv_two_sigma_sq = float(1.0 / (2.0 * params.sigma_i * params.sigma_i));
+  auto guide_at = [&](int l) -> gpu::Buffer& { return l == 0 ? guide : guides_[l - 1]; };
+  auto volume_at = [&](int l) -> CostVolume& { return l == 0 ? volume : volumes_[l - 1]; };
+  for (int l = 0; l + 1 < levels(); ++l) {  // down: level l -> l + 1
+    const auto [fw, fh] = sizes_[l];
+    const auto [cw, ch] = sizes_[l + 1];
+    seq.dispatch(down_,
+                 {guide_at(l), guide_at(l + 1), volume_at(l).binding(dummy_),
+                  volume_at(l + 1).binding(dummy_)},
+                 DownPush{std::uint32_t(fw), std::uint32_t(fh), std::uint32_t(cw),
+                          std::uint32_t(ch), inv_two_sigma_sq},
+                 down_.groups_for(cw, ch));
+    seq.barrier();
+  }
+  for (int l = levels() - 2; l >= 0; --l) {  // up: level l + 1 -> l
+    const auto [fw, fh] = sizes_[l];
+    const auto [cw, ch] = sizes_[l + 1];
+    const double scale = std::ldexp(1.0, l) - 0.5;
+    const float w_down = float(std::exp(-scale * scale / (2.0 * params.sigma_s * params.sigma_s)));
+    seq.dispatch(up_,
+                 {guide_at(l), guide_at(l + 1), volume_at(l).binding(dummy_),
+                  volume_at(l + 1).binding(dummy_)},
+                 UpPush{std::uint32_t(fw), std::uint32_t(fh), std::uint32_t(cw), std::uint32_t(ch),
+                        inv_two_sigma_sq, w_down},
+                 up_.groups_for(fw, fh));
+    seq.barrier();
+  }
+}
+
+}  // namespace omnisweep::depth

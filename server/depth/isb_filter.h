@@ -1,0 +1,47 @@
+// The inter-scale bilateral (ISB) filter on the GPU (paper §3.2.1, ALGORITHM.md §4): a guided
+// edge-aware filter that builds a pyramid with guided 3x3 downsampling and then blends each
+// level back into the finer one, guided by already smoothed guides. Work is a geometric series,
+// so time is linear in pixels. Every channel of a volume shares the guide's weights, so all
+// channels of a pixel are filtered by one invocation.
+#pragma once
+
+#include <vector>
+
+#include "omnisweep/gpu/kernel.h"
+#include "omnisweep/gpu/sequence.h"
+#include "server/depth/cost_volume.h"
+
+namespace omnisweep::depth {
+
+struct IsbParams {
+  double sigma_i = 10.0;  // range sigma, 8-bit guide units
+  double sigma_s = 25.0;  // spatial sigma in pixels of this resolution
+};
+
+// L = floor(min(log2 W, log2 H)) - 1 levels including full resolution (at least 1).
+int isb_levels(int width, int height);
+
+class IsbFilter {
+ public:
+  // A filter for width x height volumes with `layout`; allocates the coarser levels.
+  IsbFilter(gpu::Context& context, int width, int height, VolumeLayout layout);
+
+  // Records the filter into `seq`: `volume` (full resolution) is filtered in place; `guide`
+  // (packed 8-bit, 3 channels) is consumed: it ends up holding the smoothed guide.
+  void record(gpu::Sequence& seq, gpu::Buffer& guide, CostVolume& volume, const IsbParams& params);
+
+  int levels() const { return int(sizes_.size()); }
+  std::uint64_t bytes() const;
+
+ private:
+  gpu::Context* context_;
+  VolumeLayout layout_;
+  std::vector<std::pair<int, int>> sizes_;  // per level
+  std::vector<gpu::Buffer> guides_;         // levels 1..L-1
+  std::vector<CostVolume> volumes_;         // levels 1..L-1
+  gpu::Buffer dummy_;
+  gpu::Kernel down_;
+  gpu::Kernel up_;
+};
+
+}  // namespace omnisweep::depth

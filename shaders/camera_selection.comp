@@ -1,0 +1,52 @@
+#version 450
+#extension GL_GOOGLE_include_directive : require
+// Adaptive spherical matching, camera selection (ALGORITHM.md §3 step 2), once per calibration:
+// for each usable reference pixel with a valid ray, the other camera in which the segment from
+// ray * d_min to ray * d_max projects longest (both ends valid and on usable mask pixels,
+// longer than 1 pixel). -1 where there is none.
+layout(local_size_x_id = 100, local_size_y_id = 101, local_size_z_id = 102) in;
+
+#include "camera.glsl"
+#include "pixels.glsl"
+
+layout(std430, set = 0, binding = 0) readonly buffer Cameras { Camera cameras[]; };
+layout(std430, set = 0, binding = 1) readonly buffer Masks { uint masks[]; };  // bytes, camera-major
+layout(std430, set = 0, binding = 2) writeonly buffer Selection { int selection[]; };
+layout(push_constant) uniform Push {
+  uint width;
+  uint height;
+  uint num_cameras;
+  uint reference;
+  float d_min;
+  float d_max;
+} push;
+
+bool usable(uint camera, vec2 uv) {
+  const vec2 px = floor(uv + 0.5);  // nearest pixel
+  if (px.x < 0.0 || px.y < 0.0 || px.x >= float(push.width) || px.y >= float(push.height)) return false;
+  const uint index = (camera * push.height + uint(px.y)) * push.width + uint(px.x);
+  return BYTE_AT(masks, index) != 0u;
+}
+
+void main() {
+  const uvec2 p = gl_GlobalInvocationID.xy;
+  if (p.x >= push.width || p.y >= push.height) return;
+  int best = -1;
+  float best_displacement = 1.0;  // must exceed one pixel
+  vec3 ray;
+  if (usable(push.reference, vec2(p)) && unproject(cameras[push.reference], vec2(p), ray)) {
+    for (uint c = 0u; c < push.num_cameras; ++c) {
+      if (c == push.reference) continue;
+      vec2 near_uv, far_uv;
+      if (!project(cameras[c], to_camera(cameras[c], ray * push.d_min), near_uv)) continue;
+      if (!project(cameras[c], to_camera(cameras[c], ray * push.d_max), far_uv)) continue;
+      if (!usable(c, near_uv) || !usable(c, far_uv)) continue;
+      const float displacement = distance(near_uv, far_uv);
+      if (displacement > best_displacement) {
+        best_displacement = displacement;
+        best = int(c);
+      }
+    }
+  }
+  selection[p.y * push.width + p.x] = best;
+}
