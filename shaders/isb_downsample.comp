@@ -45,11 +45,13 @@ void main() {
   const uint out_index = p.y * push.coarse_width + p.x;
   coarse_guide[out_index] = round_guide(guide_sum / total);
   const float inv_total = 1.0 / total;
+  const uint fine_plane = push.fine_width * push.fine_height;
+  const uint coarse_plane = push.coarse_width * push.coarse_height;
   for (uint chunk = 0u; chunk < kChunks; ++chunk) {
     for (uint k = 0u; k < kChannels; ++k) {
       float sum = 0.0;
-      for (int j = 0; j < 9; ++j) sum += weight[j] * fine[chunk].v[index[j] * kChannels + k];
-      coarse[chunk].v[out_index * kChannels + k] = sum * inv_total;
+      for (int j = 0; j < 9; ++j) sum += weight[j] * fine[chunk].v[k * fine_plane + index[j]];
+      coarse[chunk].v[k * coarse_plane + out_index] = sum * inv_total;
     }
   }
 }

@@ -74,11 +74,13 @@ void main() {
     guide_sum += weight[j] * unpack_rgb(g);
   }
   const float inv_total = 1.0 / total;
+  const uint fine_plane = push.fine_width * push.fine_height;
+  const uint coarse_plane = push.coarse_width * push.coarse_height;
   for (uint chunk = 0u; chunk < kChunks; ++chunk) {
     for (uint k = 0u; k < kChannels; ++k) {
-      float sum = w_up * fine[chunk].v[fine_index * kChannels + k];
-      for (int j = 0; j < count; ++j) sum += weight[j] * coarse[chunk].v[index[j] * kChannels + k];
-      fine[chunk].v[fine_index * kChannels + k] = sum * inv_total;
+      float sum = w_up * fine[chunk].v[k * fine_plane + fine_index];
+      for (int j = 0; j < count; ++j) sum += weight[j] * coarse[chunk].v[k * coarse_plane + index[j]];
+      fine[chunk].v[k * fine_plane + fine_index] = sum * inv_total;
     }
   }
   fine_guide[fine_index] = round_guide(guide_sum * inv_total);

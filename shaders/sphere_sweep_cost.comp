@@ -60,6 +60,6 @@ void main() {
       const vec3 d = abs(rgb - reference_rgb);
       cost = min(d.x + d.y + d.z, 500.0);
     }
-    volume[i / kChannels].v[pixel * kChannels + i % kChannels] = cost;
+    volume[i / kChannels].v[(i % kChannels) * push.width * push.height + pixel] = cost;
   }
 }

@@ -25,13 +25,14 @@ void main() {
   const uint pixel = p.y * push.width + p.x;
   // One pass in candidate order (uniform indices into the chunk array), remembering the
   // neighbours of the current minimum.
-  float lowest = volume[0].v[pixel * kChannels];
+  const uint plane = push.width * push.height;
+  float lowest = volume[0].v[pixel];
   float highest = lowest;
   float before = 0.0, after = 0.0, previous = lowest;
   uint best = 0u;
   bool want_after = true;
   for (uint i = 1u; i < push.num_candidates; ++i) {
-    const float c = volume[i / kChannels].v[pixel * kChannels + i % kChannels];
+    const float c = volume[i / kChannels].v[(i % kChannels) * plane + pixel];
     if (want_after) {
       after = c;
       want_after = false;

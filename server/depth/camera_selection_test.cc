@@ -7,8 +7,8 @@
 #include "omnisweep/gpu/sequence.h"
 #include "omnisweep/image/image_io.h"
 #include "server/depth/depth_estimator.h"
+#include "server/depth/depth_fixtures.h"
 #include "server/depth/depth_reference.h"
-#include "server/depth/depth_test_support.h"
 #include "tests/support/gpu_test_support.h"
 #include "tests/support/test_support.h"
 
@@ -52,7 +52,7 @@ void expect_selection_matches(gpu::Context& context, const Rig& rig,
 }
 
 TEST_F(DepthKernelTest, CameraSelectionEqualsCpuOnTheSyntheticRig) {
-  const auto scene = testing::render_depth_case(160);
+  const auto scene = fixtures::render_depth_case(160);
   DepthOptions options;
   options.matching_width = options.matching_height = 160;
   expect_selection_matches(context(), scene.rig.rig(), scene.usable, options);
@@ -68,7 +68,7 @@ TEST_F(DepthKernelTest, CameraSelectionEqualsCpuOnTheKaistRigWithItsMasks) {
 }
 
 TEST_F(DepthKernelTest, SweepCostEqualsCpu) {
-  const auto scene = testing::render_depth_case(128);
+  const auto scene = fixtures::render_depth_case(128);
   DepthOptions options;
   options.matching_width = options.matching_height = 128;
   DepthEstimator estimator(context(), scene.rig.rig(), scene.usable, options);

@@ -48,7 +48,7 @@ std::vector<float> CostVolume::download(int channels) const {
     const std::vector<float> chunk = chunks_[c].download<float>();
     for (std::size_t p = 0; p < pixels; ++p) {
       for (int j = 0; j < k && c * k + j < channels; ++j)
-        out[p * channels + c * k + j] = chunk[p * k + j];
+        out[p * channels + c * k + j] = chunk[j * pixels + p];
     }
   }
   return out;
@@ -61,7 +61,7 @@ void CostVolume::upload(const std::vector<float>& values, int channels) {
     std::vector<float> chunk(pixels * k, 0.0f);
     for (std::size_t p = 0; p < pixels; ++p) {
       for (int j = 0; j < k && c * k + j < channels; ++j)
-        chunk[p * k + j] = values[p * channels + c * k + j];
+        chunk[j * pixels + p] = values[p * channels + c * k + j];
     }
     chunks_[c].upload(std::span<const float>(chunk));
   }

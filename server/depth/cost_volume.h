@@ -1,6 +1,7 @@
 // A cost volume on the GPU: width x height pixels x `candidates` floats, split into chunks of
-// channels_per_chunk candidates so that no buffer exceeds the device's maxStorageBufferRange
-// (see shaders/include/volume.glsl). Also used for any multi-channel image the ISB filter takes.
+// channels_per_chunk candidate planes so that no buffer exceeds the device's
+// maxStorageBufferRange (see shaders/include/volume.glsl). Also used for any multi-channel image
+// the ISB filter takes.
 #pragma once
 
 #include <vector>

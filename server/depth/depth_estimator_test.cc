@@ -3,8 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include "server/depth/depth_fixtures.h"
 #include "server/depth/depth_reference.h"
-#include "server/depth/depth_test_support.h"
 #include "tests/support/gpu_test_support.h"
 
 namespace omnisweep::depth {
@@ -33,7 +33,7 @@ int local_contrast(const Rgb8Image& im, const Gray8Image& usable, int x, int y) 
 
 // Whether the surface seen at reference pixel (x, y) is visible in camera `other`: its own
 // ground truth sees the same distance there (else the point is occluded and no cost can match).
-bool visible_in_selected(const testing::SyntheticDepthCase& scene, int ref, int other, int x,
+bool visible_in_selected(const fixtures::SyntheticDepthCase& scene, int ref, int other, int x,
                          int y) {
   const Rig& rig = scene.rig.rig();
   Eigen::Vector3d ray;
@@ -53,7 +53,7 @@ TEST_F(DepthEstimatorTest, RawCostIsMinimalAtTheTrueCandidateOnTexturedPixels) {
   // single-pixel ambiguities the filter is there to resolve: repeated tiles and paint-plain
   // stretches of the epipolar curve, where a far-off candidate also costs 0-2.
   const int size = 512;
-  const auto scene = testing::render_depth_case(size);
+  const auto scene = fixtures::render_depth_case(size);
   DepthOptions options;
   options.matching_width = options.matching_height = size;
   DepthEstimator estimator(context(), scene.rig.rig(), scene.usable, options);
@@ -102,7 +102,7 @@ TEST_F(DepthEstimatorTest, RawCostIsMinimalAtTheTrueCandidateOnTexturedPixels) {
 }
 
 TEST_F(DepthEstimatorTest, WinnerTakesAllEqualsCpu) {
-  const auto scene = testing::render_depth_case(96);
+  const auto scene = fixtures::render_depth_case(96);
   DepthOptions options;
   options.matching_width = options.matching_height = 96;
   options.post_filter = false;
@@ -149,7 +149,7 @@ Accuracy inverse_distance_accuracy(const FloatImage& distance, const FloatImage&
 // Frame 0 is the harder one: the near sphere at 0.7 m and plain ceiling above it.
 TEST_F(DepthEstimatorTest, FisheyeDistanceMatchesGroundTruth) {
   for (const int frame : {0, 120}) {
-    const auto scene = testing::render_depth_case(512, frame);
+    const auto scene = fixtures::render_depth_case(512, frame);
     DepthOptions options;
     options.matching_width = options.matching_height = 512;
     DepthEstimator estimator(context(), scene.rig.rig(), scene.usable, options);
@@ -172,7 +172,7 @@ TEST_F(DepthEstimatorTest, FisheyeDistanceMatchesGroundTruth) {
 }
 
 TEST_F(DepthEstimatorTest, RejectsBadInput) {
-  const auto scene = testing::render_depth_case(64);
+  const auto scene = fixtures::render_depth_case(64);
   DepthOptions options;
   options.matching_width = options.matching_height = 64;
   options.references = {2, 9};

@@ -6,15 +6,15 @@
 
 #include <random>
 
+#include "server/depth/depth_fixtures.h"
 #include "server/depth/depth_reference.h"
-#include "server/depth/depth_test_support.h"
 #include "tests/support/gpu_test_support.h"
 
 namespace omnisweep::depth {
 namespace {
 
+using fixtures::isb_filter_gpu;
 using omnisweep::testing::ValidatedGpuTest;
-using testing::isb_filter_gpu;
 
 std::uint32_t pack(int a, int b, int c) {
   return std::uint32_t(a) | (std::uint32_t(b) << 8) | (std::uint32_t(c) << 16);

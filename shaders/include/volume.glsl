@@ -1,7 +1,8 @@
-// A cost volume is stored as up to kMaxChunks storage buffers ("chunks"), each holding
-// kChannels consecutive floats per pixel (pixel-major): candidate i of pixel p lives in chunk
-// i / kChannels at p * kChannels + i % kChannels. Chunks keep every binding within the
-// device's maxStorageBufferRange (128 MiB on lavapipe: exactly one 1024^2 x 32 float volume).
+// A cost volume is stored as up to kMaxChunks storage buffers ("chunks") of kChannels planes
+// each: candidate i of pixel p lives in chunk i / kChannels at (i % kChannels) * pixels + p.
+// Planes keep neighbouring invocations on neighbouring floats (coalesced on GPUs, vector loads
+// on lavapipe). Chunks keep every binding within the device's maxStorageBufferRange (128 MiB
+// on lavapipe: exactly one 1024^2 x 32 float volume).
 const uint kMaxChunks = 8u;
 layout(constant_id = 0) const uint kChannels = 32u;  // candidates per chunk
 layout(constant_id = 1) const uint kChunks = 1u;     // chunks in use

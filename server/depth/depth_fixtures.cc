@@ -1,10 +1,10 @@
-#include "server/depth/depth_test_support.h"
+#include "server/depth/depth_fixtures.h"
 
 #include <numbers>
 
 #include "omnisweep/gpu/sequence.h"
 
-namespace omnisweep::depth::testing {
+namespace omnisweep::depth::fixtures {
 
 std::vector<const Rgb8Image*> SyntheticDepthCase::image_pointers() const {
   std::vector<const Rgb8Image*> out;
@@ -42,4 +42,4 @@ std::vector<float> isb_filter_gpu(gpu::Context& context, const std::vector<std::
   return volume.download(channels);
 }
 
-}  // namespace omnisweep::depth::testing
+}  // namespace omnisweep::depth::fixtures

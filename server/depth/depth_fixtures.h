@@ -1,5 +1,5 @@
-// Synthetic frames at the matching resolution with exact per-camera ground truth, and a helper
-// that runs the GPU ISB filter on host data, for the depth tests.
+// Fixtures for the depth tests and the benchmark: synthetic frames at the matching resolution
+// with exact per-camera ground truth, and the GPU ISB filter run on host data.
 #pragma once
 
 #include <optional>
@@ -9,7 +9,7 @@
 #include "server/depth/isb_filter.h"
 #include "server/synthetic/synthetic_rig.h"
 
-namespace omnisweep::depth::testing {
+namespace omnisweep::depth::fixtures {
 
 struct SyntheticDepthCase {
   synthetic::SyntheticRig rig;                    // calibrated at the matching resolution
@@ -27,4 +27,4 @@ std::vector<float> isb_filter_gpu(gpu::Context& context, const std::vector<std::
                                   const std::vector<float>& values, int width, int height,
                                   int channels, const IsbParams& params);
 
-}  // namespace omnisweep::depth::testing
+}  // namespace omnisweep::depth::fixtures

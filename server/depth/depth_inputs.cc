@@ -1,0 +1,38 @@
+#include "server/depth/depth_inputs.h"
+
+#include "omnisweep/image/image_io.h"
+
+namespace omnisweep::depth {
+
+std::vector<Rgb8Image> matching_images(const Frame& frame, const DepthOptions& options) {
+  std::vector<Rgb8Image> out;
+  for (const AnyImage& image : frame.images) {
+    Rgb8Image rgb = to_rgb8(image);
+    if (rgb.width() != options.matching_width || rgb.height() != options.matching_height) {
+      rgb = resize_area(rgb, options.matching_width, options.matching_height);
+    }
+    out.push_back(std::move(rgb));
+  }
+  return out;
+}
+
+std::vector<std::optional<Gray8Image>> matching_masks(const Dataset& dataset,
+                                                      const DepthOptions& options) {
+  std::vector<std::optional<Gray8Image>> out;
+  for (const auto& mask : dataset.masks()) {
+    if (mask) {
+      out.emplace_back(usable_mask(*mask, options.matching_width, options.matching_height));
+    } else {
+      out.emplace_back(std::nullopt);
+    }
+  }
+  return out;
+}
+
+std::vector<const Rgb8Image*> pointers(const std::vector<Rgb8Image>& images) {
+  std::vector<const Rgb8Image*> out;
+  for (const auto& im : images) out.push_back(&im);
+  return out;
+}
+
+}  // namespace omnisweep::depth
