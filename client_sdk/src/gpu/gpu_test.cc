@@ -6,6 +6,7 @@
 
 #include "omnisweep/gpu/buffer.h"
 #include "omnisweep/gpu/context.h"
+#include "omnisweep/gpu/image.h"
 #include "omnisweep/gpu/kernel.h"
 #include "omnisweep/gpu/sequence.h"
 #include "tests/support/gpu_test_support.h"
@@ -119,6 +120,43 @@ TEST_F(ValidatedGpuTest, KernelWithPushAndSpecializationConstants) {
     EXPECT_EQ(seq.stage_ms()[0].first, "fill");
     EXPECT_GE(seq.stage_ms()[0].second, 0.0);
   }
+}
+
+TEST_F(ValidatedGpuTest, StorageImagesRoundTripAndBindInKernels) {
+  const int w = 13, h = 7;
+  std::vector<std::uint32_t> texels(w * h);
+  for (int i = 0; i < w * h; ++i)
+    texels[i] = std::uint32_t(i) | (std::uint32_t(2 * i) << 8) | (40u << 16) | (255u << 24);
+  Image image(context(), w, h, ImageFormat::kRgba8);
+  image.upload(texels.data(), texels.size() * 4);
+  std::vector<std::uint32_t> back(w * h);
+  image.download(back.data(), back.size() * 4);
+  EXPECT_EQ(back, texels);
+  EXPECT_THROW(image.upload(texels.data(), 12), GpuError);
+
+  // A kernel reads it (imageLoad) and writes a buffer, halving every channel.
+  Buffer packed(context(), texels.size() * 4);
+  const Kernel copy(context(), "copy_image_to_buffer",
+                    {.bindings = {1}, .storage_images = 1, .push_constant_bytes = 12});
+  Sequence seq(context());
+  seq.begin();
+  struct {
+    std::uint32_t width, height;
+    float gain;
+  } push{std::uint32_t(w), std::uint32_t(h), 0.5f};
+  seq.dispatch(copy, {packed, image}, push, copy.groups_for(w, h));
+  EXPECT_THROW(seq.dispatch(copy, {packed, packed}, push, copy.groups_for(w, h)), GpuError);
+  seq.submit_and_wait();
+  const auto out = packed.download<std::uint32_t>();
+  for (int i = 0; i < w * h; ++i) {
+    for (int c = 0; c < 4; ++c) {
+      const int v = int((texels[i] >> (8 * c)) & 255), got = int((out[i] >> (8 * c)) & 255);
+      ASSERT_NEAR(got, v / 2.0, 0.51) << "texel " << i << " channel " << c;
+    }
+  }
+  Image moved = std::move(image);
+  EXPECT_EQ(moved.width(), w);
+  EXPECT_THROW(Image(context(), 0, 5, ImageFormat::kR32f), GpuError);
 }
 
 TEST_F(ValidatedGpuTest, MisuseIsAnErrorNotACrash) {

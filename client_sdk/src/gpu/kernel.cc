@@ -29,6 +29,11 @@ Kernel::Kernel(const Context& context, const std::string& shader, KernelLayout l
       bindings.emplace_back(i, vk::DescriptorType::eStorageBuffer, layout_.bindings[i],
                             vk::ShaderStageFlagBits::eCompute);
     }
+    for (std::uint32_t i = 0; i < layout_.storage_images; ++i) {
+      bindings.emplace_back(std::uint32_t(layout_.bindings.size()) + i,
+                            vk::DescriptorType::eStorageImage, 1,
+                            vk::ShaderStageFlagBits::eCompute);
+    }
     set_layout_ = vk::raii::DescriptorSetLayout(context.device(),
                                                 vk::DescriptorSetLayoutCreateInfo({}, bindings));
     const vk::PushConstantRange push(vk::ShaderStageFlagBits::eCompute, 0,

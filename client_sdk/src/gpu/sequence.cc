@@ -6,9 +6,11 @@ namespace omnisweep::gpu {
 
 Sequence::Sequence(const Context& context, std::uint32_t max_dispatches, std::uint32_t max_stages)
     : context_(&context), max_stages_(max_stages) {
-  const vk::DescriptorPoolSize size(vk::DescriptorType::eStorageBuffer, max_dispatches * 16);
+  const std::array<vk::DescriptorPoolSize, 2> sizes = {
+      vk::DescriptorPoolSize(vk::DescriptorType::eStorageBuffer, max_dispatches * 24),
+      vk::DescriptorPoolSize(vk::DescriptorType::eStorageImage, max_dispatches * 4)};
   pool_ = vk::raii::DescriptorPool(context.device(),
-                                   vk::DescriptorPoolCreateInfo({}, max_dispatches, size));
+                                   vk::DescriptorPoolCreateInfo({}, max_dispatches, sizes));
   commands_ = vk::raii::CommandBuffers(
       context.device(),
       vk::CommandBufferAllocateInfo(*context.command_pool(), vk::CommandBufferLevel::ePrimary, 1));
@@ -37,10 +39,19 @@ void Sequence::dispatch(const Kernel& kernel, const std::vector<Binding>& bindin
   if (!recording_)
     throw GpuError("kernel " + kernel.name() + ": dispatch outside begin()/submit_and_wait()");
   const auto& layout = kernel.layout();
-  if (bindings.size() != layout.bindings.size()) {
+  const std::size_t buffer_bindings = layout.bindings.size();
+  if (bindings.size() != buffer_bindings + layout.storage_images) {
     throw GpuError("kernel " + kernel.name() + ": expects " +
-                   std::to_string(layout.bindings.size()) + " bindings, got " +
+                   std::to_string(buffer_bindings + layout.storage_images) + " bindings, got " +
                    std::to_string(bindings.size()));
+  }
+  std::vector<vk::DescriptorImageInfo> image_infos;
+  for (std::size_t b = buffer_bindings; b < bindings.size(); ++b) {
+    if (!bindings[b].image) {
+      throw GpuError("kernel " + kernel.name() + ": binding " + std::to_string(b) +
+                     " takes a storage image");
+    }
+    image_infos.emplace_back(nullptr, bindings[b].image->view(), vk::ImageLayout::eGeneral);
   }
   if (push_bytes != layout.push_constant_bytes) {
     throw GpuError("kernel " + kernel.name() + ": push constants are " +
@@ -55,9 +66,9 @@ void Sequence::dispatch(const Kernel& kernel, const std::vector<Binding>& bindin
                      std::to_string(limits.max_workgroup_count[i]) + ")");
     }
   }
-  std::vector<std::vector<vk::DescriptorBufferInfo>> infos(bindings.size());
-  for (std::size_t b = 0; b < bindings.size(); ++b) {
-    if (bindings[b].buffers.size() != layout.bindings[b]) {
+  std::vector<std::vector<vk::DescriptorBufferInfo>> infos(buffer_bindings);
+  for (std::size_t b = 0; b < buffer_bindings; ++b) {
+    if (bindings[b].image || bindings[b].buffers.size() != layout.bindings[b]) {
       throw GpuError("kernel " + kernel.name() + ": binding " + std::to_string(b) + " takes " +
                      std::to_string(layout.bindings[b]) + " buffers, got " +
                      std::to_string(bindings[b].buffers.size()));
@@ -79,9 +90,13 @@ void Sequence::dispatch(const Kernel& kernel, const std::vector<Binding>& bindin
                                 vk::DescriptorSetAllocateInfo(*pool_, set_layout));
   const vk::DescriptorSet set = sets[0].release();
   std::vector<vk::WriteDescriptorSet> writes;
-  for (std::size_t b = 0; b < bindings.size(); ++b) {
+  for (std::size_t b = 0; b < buffer_bindings; ++b) {
     writes.emplace_back(set, std::uint32_t(b), 0, vk::DescriptorType::eStorageBuffer, nullptr,
                         infos[b]);
+  }
+  for (std::size_t i = 0; i < image_infos.size(); ++i) {
+    writes.emplace_back(set, std::uint32_t(buffer_bindings + i), 0, 1,
+                        vk::DescriptorType::eStorageImage, &image_infos[i]);
   }
   context_->device().updateDescriptorSets(writes, nullptr);
   const auto& cmd = commands_[0];

@@ -1,7 +1,7 @@
 // One compute kernel: a pipeline built from embedded SPIR-V (shaders/<name>.comp), with storage
-// buffer bindings (each binding may be an array of buffers), push constants and
-// specialization constants. Workgroup sizes are specialization constants 100, 101, 102
-// (local_size_x_id etc. in the shader), so the host always knows them.
+// buffer bindings (each binding may be an array of buffers), then storage image bindings, push
+// constants and specialization constants. Workgroup sizes are specialization constants 100, 101,
+// 102 (local_size_x_id etc. in the shader), so the host always knows them.
 #pragma once
 
 #include <array>
@@ -32,6 +32,8 @@ struct SpecConstant {
 struct KernelLayout {
   // Number of storage buffers at each binding (1 for a plain buffer, N for an array).
   std::vector<std::uint32_t> bindings;
+  // Storage images, one per binding, at the binding numbers after the buffers.
+  std::uint32_t storage_images = 0;
   std::uint32_t push_constant_bytes = 0;
   std::array<std::uint32_t, 3> local_size = {8, 8, 1};
   std::vector<SpecConstant> constants;

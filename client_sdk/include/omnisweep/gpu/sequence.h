@@ -16,16 +16,20 @@
 #include <vector>
 
 #include "omnisweep/gpu/buffer.h"
+#include "omnisweep/gpu/image.h"
 #include "omnisweep/gpu/kernel.h"
 
 namespace omnisweep::gpu {
 
-// A binding: one buffer, or an array of buffers for bindings declared with a count > 1.
+// A binding: one buffer, an array of buffers for bindings declared with a count > 1, or a
+// storage image.
 struct Binding {
   std::vector<const Buffer*> buffers;
+  const Image* image = nullptr;
   Binding(const Buffer* buffer) : buffers{buffer} {}   // NOLINT: implicit for brace lists
   Binding(const Buffer& buffer) : buffers{&buffer} {}  // NOLINT
   Binding(std::vector<const Buffer*> list) : buffers(std::move(list)) {}  // NOLINT
+  Binding(const Image& storage_image) : image(&storage_image) {}          // NOLINT
 };
 
 class Sequence {
@@ -36,7 +40,8 @@ class Sequence {
   // Starts recording (again): earlier commands, descriptor sets and timings are dropped.
   void begin();
 
-  // Binds `bindings` in order (binding i gets bindings[i]), pushes `push` and dispatches.
+  // Binds `bindings` in order (binding i gets bindings[i]: the kernel's buffers, then its
+  // images), pushes `push` and dispatches.
   // Throws GpuError when a binding does not match the kernel's layout or exceeds the device's
   // maxStorageBufferRange.
   void dispatch(const Kernel& kernel, const std::vector<Binding>& bindings, const void* push,
