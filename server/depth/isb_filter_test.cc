@@ -101,21 +101,28 @@ std::vector<float> random_values(const Case& c, std::mt19937& rng) {
   return values;
 }
 
-TEST_F(IsbFilterTest, EqualsThePlainImplementationWhereTheGuideCannotMatter) {
-  // With a huge sigma_I every range weight is 1.01 whatever the guides, so levels, spatial
-  // weights and the up/down blending alone decide: GPU and C++ must agree everywhere.
-  std::mt19937 rng(7);
+// Filters random values guided by random guides on the GPU and in plain C++ for every odd size.
+template <typename Check>
+void compare_on_odd_sizes(gpu::Context& context, unsigned seed, double sigma_i, Check&& check) {
+  std::mt19937 rng(seed);
   for (const Case& c : kOddSizes) {
     const auto guide = random_guide(c.w * c.h, rng);
     const auto values = random_values(c, rng);
-    const IsbParams params{1e6, 25.0 * c.w / 1024.0 * 8};
-    const Comparison d = compare(
-        isb_filter_gpu(context(), guide, values, c.w, c.h, c.channels, params),
-        isb_filter_cpu(guide, values, c.w, c.h, c.channels, params.sigma_i, params.sigma_s));
+    const IsbParams params{sigma_i, 25.0 * c.w / 1024.0 * 8};
+    check(c, compare(isb_filter_gpu(context, guide, values, c.w, c.h, c.channels, params),
+                     isb_filter_cpu(guide, values, c.w, c.h, c.channels, params.sigma_i,
+                                    params.sigma_s)));
+  }
+}
+
+TEST_F(IsbFilterTest, EqualsThePlainImplementationWhereTheGuideCannotMatter) {
+  // With a huge sigma_I every range weight is 1.01 whatever the guides, so levels, spatial
+  // weights and the up/down blending alone decide: GPU and C++ must agree everywhere.
+  compare_on_odd_sizes(context(), 7, 1e6, [](const Case& c, const Comparison& d) {
     std::cout << c.w << "x" << c.h << "x" << c.channels
               << " (flat range weights): largest relative difference " << d.worst << "\n";
     EXPECT_LT(d.worst, 1e-3);
-  }
+  });
 }
 
 TEST_F(IsbFilterTest, EqualsThePlainImplementationOnRandomGuides) {
@@ -123,19 +130,12 @@ TEST_F(IsbFilterTest, EqualsThePlainImplementationOnRandomGuides) {
   // within float noise of a half level, GPU and C++ may round it differently; a one-level guide
   // difference changes the weights near it, so a few small clusters differ by up to about 1 %.
   // Everywhere else they agree within 1e-3.
-  std::mt19937 rng(11);
-  for (const Case& c : kOddSizes) {
-    const auto guide = random_guide(c.w * c.h, rng);
-    const auto values = random_values(c, rng);
-    const IsbParams params{10.0, 25.0 * c.w / 1024.0 * 8};
-    const Comparison d = compare(
-        isb_filter_gpu(context(), guide, values, c.w, c.h, c.channels, params),
-        isb_filter_cpu(guide, values, c.w, c.h, c.channels, params.sigma_i, params.sigma_s));
+  compare_on_odd_sizes(context(), 11, 10.0, [](const Case& c, const Comparison& d) {
     std::cout << c.w << "x" << c.h << "x" << c.channels << ": " << 100 * d.within_1e3
               << " % of values within 1e-3 relative, largest difference " << d.worst << "\n";
     EXPECT_GE(d.within_1e3, 0.999);
     EXPECT_LT(d.worst, 0.02);
-  }
+  });
 }
 
 }  // namespace

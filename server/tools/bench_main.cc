@@ -21,6 +21,7 @@
 #include "server/depth/depth_estimator.h"
 #include "server/depth/depth_fixtures.h"
 #include "server/depth/depth_reference.h"
+#include "server/tools/tool_main.h"
 
 namespace {
 
@@ -114,9 +115,7 @@ int run(int argc, char** argv) {
   app.add_flag("--skip-fbs", skip_fbs, "Leave out the (slow) fast bilateral solver");
   CLI11_PARSE(app, argc, argv);
 
-  gpu::ContextOptions context_options = gpu::ContextOptions::from_environment();
-  if (!device.empty()) context_options.device = device;
-  gpu::Context context(context_options);
+  gpu::Context context(tools::context_options(device));
   const auto& info = context.info();
   if (!json) {
     std::printf("device: %s (%s, Vulkan %s), maxStorageBufferRange %llu MiB\n\n", info.name.c_str(),
@@ -290,10 +289,5 @@ int run(int argc, char** argv) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  try {
-    return run(argc, argv);
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "omnisweep-bench: %s\n", e.what());
-    return 1;
-  }
+  return omnisweep::tools::run_tool("omnisweep-bench", argc, argv, run);
 }

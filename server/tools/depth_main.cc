@@ -13,6 +13,7 @@
 #include "omnisweep/image/image_io.h"
 #include "server/depth/depth_estimator.h"
 #include "server/depth/depth_inputs.h"
+#include "server/tools/tool_main.h"
 
 namespace {
 
@@ -62,9 +63,7 @@ int run(int argc, char** argv) {
 
   const Dataset dataset = Dataset::open(dataset_dir);
   options.check(dataset.rig().num_cameras());
-  gpu::ContextOptions context_options = gpu::ContextOptions::from_environment();
-  if (!device.empty()) context_options.device = device;
-  gpu::Context context(context_options);
+  gpu::Context context(tools::context_options(device));
   depth::DepthEstimator estimator(
       context, dataset.rig().resized(options.matching_width, options.matching_height),
       depth::matching_masks(dataset, options), options);
@@ -135,10 +134,5 @@ int run(int argc, char** argv) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  try {
-    return run(argc, argv);
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "omnisweep-depth: %s\n", e.what());
-    return 1;
-  }
+  return omnisweep::tools::run_tool("omnisweep-depth", argc, argv, run);
 }

@@ -9,6 +9,7 @@
 #include "omnisweep/image/image_io.h"
 #include "omnisweep/rig/basalt_calibration.h"
 #include "server/synthetic/synthetic_dataset.h"
+#include "server/tools/tool_main.h"
 
 namespace {
 
@@ -92,10 +93,5 @@ int run(int argc, char** argv) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  try {
-    return run(argc, argv);
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "omnisweep-synth: %s\n", e.what());
-    return 1;
-  }
+  return omnisweep::tools::run_tool("omnisweep-synth", argc, argv, run);
 }
