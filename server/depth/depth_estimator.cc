@@ -2,7 +2,7 @@
 
 #include <stdexcept>
 
-#include "server/depth/gpu_camera.h"
+#include "omnisweep/reproject/gpu_camera.h"
 
 namespace omnisweep::depth {
 namespace {
@@ -100,9 +100,9 @@ DepthEstimator::DepthEstimator(gpu::Context& context, const Rig& rig,
   sequence_.begin();
   for (std::size_t slot = 0; slot < options.references.size(); ++slot) {
     const int reference = options.references[slot];
-    const std::vector<GpuCamera> packed = pack_cameras(rig_, reference);
-    cameras_.emplace_back(context, packed.size() * sizeof(GpuCamera));
-    cameras_.back().upload(packed.data(), packed.size() * sizeof(GpuCamera));
+    const std::vector<reproject::GpuCamera> packed = reproject::pack_cameras(rig_, reference);
+    cameras_.emplace_back(context, packed.size() * sizeof(reproject::GpuCamera));
+    cameras_.back().upload(packed.data(), packed.size() * sizeof(reproject::GpuCamera));
     selections_.emplace_back(context, pixels * sizeof(std::int32_t));
     distances_.emplace_back(context, width_, height_, VolumeLayout{1, 1});
     sequence_.dispatch(selection_kernel_, {cameras_.back(), masks, selections_.back()},

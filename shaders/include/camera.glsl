@@ -7,6 +7,9 @@ const uint kModelDoubleSphere = 0u;
 const uint kModelKannalaBrandt = 1u;
 const uint kModelExtendedUnified = 2u;
 const uint kModelPinhole = 3u;
+const uint kModelEquirectangular = 4u;  // panorama, ALGORITHM.md §5 convention; width, height only
+
+const float kPi = 3.14159265358979;
 
 struct Camera {
   vec4 focal_center;  // fx, fy, cx, cy
@@ -36,6 +39,16 @@ float kb4_distort(Camera c, float t) {
 
 // Projects p (camera frame) to pixel coordinates; false when invalid.
 bool project(Camera c, vec3 p, out vec2 uv) {
+  if (c.model == kModelEquirectangular) {
+    const float n = length(p);
+    const float phi = asin(clamp(p.y / max(n, 1e-30), -1.0, 1.0));
+    float theta = atan(p.x, p.z) - kPi;  // (-2 pi, 0]
+    if (theta < 0.0) theta += 2.0 * kPi;
+    float x = theta * float(c.width) / (2.0 * kPi) - 0.5;
+    if (x >= float(c.width) - 0.5) x -= float(c.width);
+    uv = vec2(x, (phi + 0.5 * kPi) * float(c.height) / kPi - 0.5);
+    return n > 0.0;
+  }
   vec2 m = vec2(0.0);
   bool ok = in_valid_cone(c, p);
   if (c.model == kModelDoubleSphere) {
@@ -66,6 +79,12 @@ bool project(Camera c, vec3 p, out vec2 uv) {
 
 // Unprojects a pixel to a unit ray (camera frame); false when the pixel sees no valid ray.
 bool unproject(Camera c, vec2 uv, out vec3 ray) {
+  if (c.model == kModelEquirectangular) {
+    const float phi = (uv.y + 0.5) * kPi / float(c.height) - 0.5 * kPi;
+    const float theta = (uv.x + 0.5) * 2.0 * kPi / float(c.width) + kPi;
+    ray = vec3(cos(phi) * sin(theta), sin(phi), cos(phi) * cos(theta));
+    return true;
+  }
   const vec2 m = (uv - c.focal_center.zw) / c.focal_center.xy;
   const float r2 = dot(m, m);
   vec3 r = vec3(0.0, 0.0, 1.0);

@@ -1,0 +1,32 @@
+// Cameras packed for the shaders (struct Camera in shaders/include/camera.glsl, std430): rig
+// cameras of any model, and equirectangular panoramas (ALGORITHM.md §5 convention) as model 4.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "omnisweep/rig/rig.h"
+
+namespace omnisweep::reproject {
+
+struct GpuCamera {
+  float focal_center[4];  // fx, fy, cx, cy
+  float extra[4];         // model parameters after the first four
+  float rows[3][4];       // cam_from_ref: rotation rows | translation
+  std::uint32_t model;    // 0 ds, 1 kb4, 2 eucm, 3 pinhole, 4 equirectangular
+  float cos_max;
+  std::uint32_t width;
+  std::uint32_t height;
+};
+static_assert(sizeof(GpuCamera) == 96, "must match the std430 layout of struct Camera");
+
+// Every camera of `rig` with its transform from camera `reference`'s frame.
+std::vector<GpuCamera> pack_cameras(const Rig& rig, int reference);
+
+// One camera: `model` at width x height, whose frame is reached from the frame of reference by
+// cam_from_ref.
+GpuCamera pack_camera(const CameraModel<double>& model, int width, int height, const Rigid3d& cam_from_ref);
+// An equirectangular panorama of width x height, axes given by cam_from_ref.
+GpuCamera pack_equirectangular(int width, int height, const Rigid3d& cam_from_ref);
+
+}  // namespace omnisweep::reproject

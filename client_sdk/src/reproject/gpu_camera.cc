@@ -1,0 +1,63 @@
+#include "omnisweep/reproject/gpu_camera.h"
+
+#include <cmath>
+#include <stdexcept>
+
+namespace omnisweep::reproject {
+namespace {
+
+std::uint32_t model_id(std::string_view name) {
+  if (name == "ds") return 0;
+  if (name == "kb4") return 1;
+  if (name == "eucm") return 2;
+  if (name == "pinhole") return 3;
+  throw std::invalid_argument("camera model '" + std::string(name) + "' has no GPU implementation");
+}
+
+}  // namespace
+
+namespace {
+
+void set_pose(GpuCamera* g, const Rigid3d& cam_from_ref) {
+  const Eigen::Matrix3d r = cam_from_ref.rotation.toRotationMatrix();
+  for (int row = 0; row < 3; ++row) {
+    for (int col = 0; col < 3; ++col) g->rows[row][col] = float(r(row, col));
+    g->rows[row][3] = float(cam_from_ref.translation[row]);
+  }
+}
+
+}  // namespace
+
+GpuCamera pack_camera(const CameraModel<double>& model, int width, int height, const Rigid3d& cam_from_ref) {
+  GpuCamera g{};
+  const auto params = model.params();
+  for (int i = 0; i < 4; ++i) g.focal_center[i] = float(params[i]);
+  for (std::size_t i = 4; i < params.size() && i < 8; ++i) g.extra[i - 4] = float(params[i]);
+  set_pose(&g, cam_from_ref);
+  g.model = model_id(model.name());
+  g.cos_max = float(std::cos(model.max_angle()));
+  g.width = std::uint32_t(width);
+  g.height = std::uint32_t(height);
+  return g;
+}
+
+GpuCamera pack_equirectangular(int width, int height, const Rigid3d& cam_from_ref) {
+  GpuCamera g{};
+  set_pose(&g, cam_from_ref);
+  g.model = 4;
+  g.cos_max = -2.0f;  // every direction is valid
+  g.width = std::uint32_t(width);
+  g.height = std::uint32_t(height);
+  return g;
+}
+
+std::vector<GpuCamera> pack_cameras(const Rig& rig, int reference) {
+  std::vector<GpuCamera> out;
+  for (int c = 0; c < rig.num_cameras(); ++c) {
+    const RigCamera& cam = rig.cameras[c];
+    out.push_back(pack_camera(cam.model, cam.width, cam.height, rig.cam_from_cam(c, reference)));
+  }
+  return out;
+}
+
+}  // namespace omnisweep::reproject

@@ -1,0 +1,53 @@
+#version 450
+#extension GL_GOOGLE_include_directive : require
+// One pass of directional inpainting (ALGORITHM.md §5 step 2): a hole takes the weighted mean
+// of its two background-side neighbours that already hold a value in the previous pass (read
+// from `source`, written to `destination`: ping-pong, so the result does not depend on thread
+// order). Panoramas wrap around horizontally.
+layout(local_size_x_id = 100, local_size_y_id = 101, local_size_z_id = 102) in;
+
+struct Direction {
+  uint codes;
+  float weight0;
+  float weight1;
+  uint unused;
+};
+
+layout(std430, set = 0, binding = 0) readonly buffer Directions { Direction directions[]; };
+layout(std430, set = 0, binding = 1) readonly buffer Source { uint source[]; };
+layout(std430, set = 0, binding = 2) writeonly buffer Destination { uint destination[]; };
+layout(push_constant) uniform Push {
+  uint width;
+  uint height;
+  uint wrap_x;
+} push;
+
+const uint kEmpty = 0xffffffffu;
+const ivec2 kNeighbours[8] = ivec2[8](ivec2(1, 0), ivec2(1, 1), ivec2(0, 1), ivec2(-1, 1), ivec2(-1, 0),
+                                      ivec2(-1, -1), ivec2(0, -1), ivec2(1, -1));
+
+void main() {
+  const uvec2 q = gl_GlobalInvocationID.xy;
+  if (q.x >= push.width || q.y >= push.height) return;
+  const uint index = q.y * push.width + q.x;
+  const uint own = source[index];
+  if (own != kEmpty) {
+    destination[index] = own;
+    return;
+  }
+  const Direction d = directions[index];
+  float sum = 0.0, total = 0.0;
+  for (uint k = 0u; k < 2u; ++k) {
+    const uint code = (d.codes >> (8u * k)) & 0xffu;
+    if (code > 7u) continue;
+    ivec2 n = ivec2(q) + kNeighbours[code];
+    if (push.wrap_x != 0u) n.x = (n.x + int(push.width)) % int(push.width);
+    if (n.x < 0 || n.y < 0 || n.x >= int(push.width) || n.y >= int(push.height)) continue;
+    const uint value = source[uint(n.y) * push.width + uint(n.x)];
+    if (value == kEmpty) continue;
+    const float w = k == 0u ? d.weight0 : d.weight1;
+    sum += w * uintBitsToFloat(value);
+    total += w;
+  }
+  destination[index] = total > 0.0 ? floatBitsToUint(sum / total) : kEmpty;
+}
