@@ -28,7 +28,8 @@ void set_pose(GpuCamera* g, const Rigid3d& cam_from_ref) {
 
 }  // namespace
 
-GpuCamera pack_camera(const CameraModel<double>& model, int width, int height, const Rigid3d& cam_from_ref) {
+GpuCamera pack_camera(const CameraModel<double>& model, int width, int height,
+                      const Rigid3d& cam_from_ref) {
   GpuCamera g{};
   const auto params = model.params();
   for (int i = 0; i < 4; ++i) g.focal_center[i] = float(params[i]);

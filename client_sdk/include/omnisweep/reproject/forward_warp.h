@@ -23,14 +23,15 @@ namespace omnisweep::reproject {
 struct WarpOptions {
   double min_distance = 0.55;  // d_min and d_max of the background direction (ALGORITHM.md §5)
   double max_distance = 100.0;
-  int inpaint_passes = 32;     // more than the widest expected hole
+  int inpaint_passes = 32;  // more than the widest expected hole
 };
 
 class ForwardWarper {
  public:
   // `source.rows` must be the identity; `target.rows` hold target_from_source. The background
   // directions are computed here, once per pose.
-  ForwardWarper(gpu::Context& context, const GpuCamera& source, const GpuCamera& target, const WarpOptions& options);
+  ForwardWarper(gpu::Context& context, const GpuCamera& source, const GpuCamera& target,
+                const WarpOptions& options);
 
   // Records: clear the z-buffer, warp `distance` (source width x height floats; <= 0 = none),
   // inpaint. The result is valid after the sequence has run.

@@ -25,7 +25,8 @@ std::vector<GpuCamera> pack_cameras(const Rig& rig, int reference);
 
 // One camera: `model` at width x height, whose frame is reached from the frame of reference by
 // cam_from_ref.
-GpuCamera pack_camera(const CameraModel<double>& model, int width, int height, const Rigid3d& cam_from_ref);
+GpuCamera pack_camera(const CameraModel<double>& model, int width, int height,
+                      const Rigid3d& cam_from_ref);
 // An equirectangular panorama of width x height, axes given by cam_from_ref.
 GpuCamera pack_equirectangular(int width, int height, const Rigid3d& cam_from_ref);
 
