@@ -122,10 +122,13 @@ void Sequence::barrier() {
   commands_[0].pipelineBarrier(stages, stages, {}, memory, nullptr, nullptr);
 }
 
-void Sequence::copy(const Buffer& source, Buffer& destination, vk::DeviceSize bytes) {
-  if (bytes > source.size() || bytes > destination.size())
-    throw GpuError("GPU copy larger than its buffers");
-  commands_[0].copyBuffer(source.handle(), destination.handle(), vk::BufferCopy(0, 0, bytes));
+void Sequence::copy(const Buffer& source, Buffer& destination, vk::DeviceSize bytes,
+                    vk::DeviceSize source_offset, vk::DeviceSize destination_offset) {
+  if (source_offset + bytes > source.size() || destination_offset + bytes > destination.size()) {
+    throw GpuError("GPU copy of " + std::to_string(bytes) + " bytes exceeds its buffers");
+  }
+  commands_[0].copyBuffer(source.handle(), destination.handle(),
+                          vk::BufferCopy(source_offset, destination_offset, bytes));
 }
 
 void Sequence::fill(Buffer& buffer, std::uint32_t pattern) {

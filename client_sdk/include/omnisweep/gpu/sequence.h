@@ -54,7 +54,8 @@ class Sequence {
 
   // Makes every earlier shader or transfer write visible to later shaders and transfers.
   void barrier();
-  void copy(const Buffer& source, Buffer& destination, vk::DeviceSize bytes);
+  void copy(const Buffer& source, Buffer& destination, vk::DeviceSize bytes, vk::DeviceSize source_offset = 0,
+            vk::DeviceSize destination_offset = 0);
   // Fills `buffer` with a repeated 32-bit pattern (0 clears).
   void fill(Buffer& buffer, std::uint32_t pattern);
 

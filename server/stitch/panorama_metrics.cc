@@ -1,0 +1,102 @@
+#include "server/stitch/panorama_metrics.h"
+
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <vector>
+
+namespace omnisweep::stitch {
+namespace {
+
+void require_same_size(const char* what, int w0, int h0, int w1, int h1) {
+  if (w0 != w1 || h0 != h1) {
+    throw std::invalid_argument(std::string(what) + ": " + std::to_string(w0) + "x" +
+                                std::to_string(h0) + " against ground truth " + std::to_string(w1) +
+                                "x" + std::to_string(h1));
+  }
+}
+
+// Mean of `f` over the 7x7 window around every pixel with a 3-pixel margin (what scikit-image
+// keeps after cropping), via a summed-area table.
+std::vector<double> window_means(const std::vector<double>& f, int w, int h) {
+  std::vector<double> sat(std::size_t(w + 1) * (h + 1), 0.0);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x)
+      sat[(y + 1) * std::size_t(w + 1) + x + 1] =
+          f[std::size_t(y) * w + x] + sat[y * std::size_t(w + 1) + x + 1] +
+          sat[(y + 1) * std::size_t(w + 1) + x] - sat[y * std::size_t(w + 1) + x];
+  std::vector<double> out;
+  for (int y = 3; y < h - 3; ++y)
+    for (int x = 3; x < w - 3; ++x) {
+      auto at = [&](int yy, int xx) { return sat[std::size_t(yy) * (w + 1) + xx]; };
+      out.push_back((at(y + 4, x + 4) - at(y - 3, x + 4) - at(y + 4, x - 3) + at(y - 3, x - 3)) /
+                    49.0);
+    }
+  return out;
+}
+
+}  // namespace
+
+double psnr(const Rgb8Image& a, const Rgb8Image& b) {
+  require_same_size("colour panorama", a.width(), a.height(), b.width(), b.height());
+  double mse = 0;
+  for (std::size_t i = 0; i < a.size(); ++i) mse += std::pow(double(a.data()[i]) - b.data()[i], 2);
+  mse /= double(a.size());
+  return mse > 0 ? 10.0 * std::log10(255.0 * 255.0 / mse) : std::numeric_limits<double>::infinity();
+}
+
+double ssim(const Rgb8Image& a, const Rgb8Image& b) {
+  require_same_size("colour panorama", a.width(), a.height(), b.width(), b.height());
+  const int w = a.width(), h = a.height();
+  if (w < 7 || h < 7) throw std::invalid_argument("SSIM needs images of at least 7x7 pixels");
+  const double c1 = 0.01 * 0.01, c2 = 0.03 * 0.03, cov_norm = 49.0 / 48.0;
+  double total = 0;
+  for (int c = 0; c < 3; ++c) {
+    std::vector<double> x(std::size_t(w) * h), y(x.size()), xx(x.size()), yy(x.size()),
+        xy(x.size());
+    for (std::size_t i = 0; i < x.size(); ++i) {
+      x[i] = a.data()[3 * i + c] / 255.0;
+      y[i] = b.data()[3 * i + c] / 255.0;
+      xx[i] = x[i] * x[i];
+      yy[i] = y[i] * y[i];
+      xy[i] = x[i] * y[i];
+    }
+    const auto ux = window_means(x, w, h), uy = window_means(y, w, h), uxx = window_means(xx, w, h),
+               uyy = window_means(yy, w, h), uxy = window_means(xy, w, h);
+    double sum = 0;
+    for (std::size_t i = 0; i < ux.size(); ++i) {
+      const double vx = cov_norm * (uxx[i] - ux[i] * ux[i]),
+                   vy = cov_norm * (uyy[i] - uy[i] * uy[i]);
+      const double vxy = cov_norm * (uxy[i] - ux[i] * uy[i]);
+      sum += (2 * ux[i] * uy[i] + c1) * (2 * vxy + c2) /
+             ((ux[i] * ux[i] + uy[i] * uy[i] + c1) * (vx + vy + c2));
+    }
+    total += sum / double(ux.size());
+  }
+  return total / 3.0;
+}
+
+PanoramaMetrics evaluate_panorama(const Rgb8Image& rgb, const FloatImage& distance,
+                                  const Rgb8Image& rgb_truth, const FloatImage& inverse_truth) {
+  require_same_size("distance panorama", distance.width(), distance.height(), inverse_truth.width(),
+                    inverse_truth.height());
+  PanoramaMetrics m;
+  const std::size_t n = distance.size();
+  for (std::size_t i = 0; i < n; ++i) {
+    const double d = distance.data()[i];
+    const double e = std::abs((d > 0 ? 1.0 / d : 0.0) - inverse_truth.data()[i]);
+    m.mae += e;
+    m.rmse += e * e;
+    m.bad_0_1 += e > 0.1;
+    m.bad_0_4 += e > 0.4;
+  }
+  m.mae /= double(n);
+  m.rmse = std::sqrt(m.rmse / double(n));
+  m.bad_0_1 /= double(n);
+  m.bad_0_4 /= double(n);
+  m.psnr = psnr(rgb, rgb_truth);
+  m.ssim = ssim(rgb, rgb_truth);
+  return m;
+}
+
+}  // namespace omnisweep::stitch

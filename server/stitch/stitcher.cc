@@ -1,0 +1,155 @@
+#include "server/stitch/stitcher.h"
+
+#include <stdexcept>
+
+#include "server/stitch/blend_weights.h"
+
+namespace omnisweep::stitch {
+namespace {
+
+Eigen::Vector3d mean_position(const Rig& rig, const std::vector<int>& references) {
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  for (int r : references) sum += rig.cameras.at(r).center_in_rig();
+  return sum / double(references.size());
+}
+
+std::uint64_t area(const RigCamera& c) { return std::uint64_t(c.width) * c.height; }
+
+struct MergePush {
+  std::uint32_t width, height, references;
+};
+
+}  // namespace
+
+Stitcher::Stitcher(gpu::Context& context, const Rig& matching_rig, const Rig& colour_rig,
+                   const std::vector<int>& references,
+                   const std::vector<std::optional<Gray8Image>>& usable,
+                   const StitchOptions& options)
+    : context_(&context),
+      options_(options),
+      references_(references),
+      matching_rig_(matching_rig),
+      colour_rig_(colour_rig),
+      viewpoint_(options.viewpoint ? *options.viewpoint : mean_position(matching_rig, references)),
+      allocated_before_(context.allocated_bytes()),
+      cameras_(context, 2 * references.size() * sizeof(reproject::GpuCamera)),
+      weights_(context, references.size() * std::uint64_t(options.panorama_width) *
+                            options.panorama_height * 4),
+      warped_(context, references.size() * area(matching_rig.cameras.at(references.at(0))) * 4),
+      original_(context, references.size() * area(matching_rig.cameras.at(references.at(0))) * 4),
+      colour_(context, references.size() * area(colour_rig.cameras.at(references.at(0))) * 4),
+      out_colour_(context, std::uint64_t(options.panorama_width) * options.panorama_height * 4),
+      out_distance_(context, std::uint64_t(options.panorama_width) * options.panorama_height * 4),
+      merge_(context, "stitch_merge",
+             {.bindings = {1, 1, 1, 1, 1, 1, 1}, .push_constant_bytes = sizeof(MergePush)}),
+      sequence_(context) {
+  if (options.panorama_width != 2 * options.panorama_height || options.panorama_height < 4) {
+    throw std::invalid_argument("panorama-resolution: width must be twice the height (got " +
+                                std::to_string(options.panorama_width) + "x" +
+                                std::to_string(options.panorama_height) + ")");
+  }
+  const RigCamera& first = matching_rig.cameras[references[0]];
+  const RigCamera& first_colour = colour_rig.cameras[references[0]];
+  std::vector<reproject::GpuCamera> cameras;
+  for (int ref : references) {
+    const RigCamera& cam = matching_rig.cameras.at(ref);
+    const RigCamera& colour_cam = colour_rig.cameras.at(ref);
+    if (cam.width != first.width || cam.height != first.height ||
+        colour_cam.width != first_colour.width || colour_cam.height != first_colour.height) {
+      throw std::invalid_argument(
+          "reference cameras must share one matching and one colour resolution");
+    }
+    const Rigid3d cam_from_rig = cam.rig_from_cam.inverse();
+    const Eigen::Vector3d t_c = cam_from_rig * viewpoint_;  // the viewpoint in c's frame
+    // Warp target: c's own intrinsics and axes, centred on the viewpoint (P = D ray - t_c).
+    warpers_.emplace_back(
+        context, reproject::pack_camera(cam.model, cam.width, cam.height, Rigid3d()),
+        reproject::pack_camera(cam.model, cam.width, cam.height,
+                               Rigid3d(Eigen::Quaterniond::Identity(), -t_c)),
+        reproject::WarpOptions{options.min_distance, options.max_distance, options.inpaint_passes});
+    distances_.emplace_back(context, area(cam) * 4);
+    cameras.push_back(reproject::pack_camera(cam.model, cam.width, cam.height,
+                                             Rigid3d(cam_from_rig.rotation, t_c)));
+    cameras.push_back(
+        reproject::pack_camera(colour_cam.model, colour_cam.width, colour_cam.height, Rigid3d()));
+  }
+  cameras_.upload(cameras.data(), cameras.size() * sizeof(reproject::GpuCamera));
+
+  BlendSetup setup{&matching_rig,
+                   references,
+                   viewpoint_,
+                   {},
+                   options.min_distance,
+                   options.max_distance,
+                   options.panorama_width,
+                   options.panorama_height};
+  for (const auto& mask : usable)
+    setup.usable.emplace_back(mask ? std::optional<Gray8Image>(mask->clone()) : std::nullopt);
+  const std::vector<FloatImage> weights = blend_weights(setup);
+  const std::size_t pano = std::size_t(options.panorama_width) * options.panorama_height;
+  for (std::size_t k = 0; k < weights.size(); ++k)
+    weights_.upload(weights[k].data(), pano * 4, k * pano * 4);
+  gpu_bytes_ = context.allocated_bytes() - allocated_before_;
+}
+
+Panorama Stitcher::stitch(const std::vector<const FloatImage*>& distance,
+                          const std::vector<const Rgb8Image*>& colour) {
+  if (distance.size() != references_.size() || colour.size() != references_.size()) {
+    throw std::invalid_argument(
+        "stitch: expected one distance map and one colour image per reference");
+  }
+  const RigCamera& first = matching_rig_.cameras[references_[0]];
+  const RigCamera& first_colour = colour_rig_.cameras[references_[0]];
+  const std::uint64_t matching = area(first), colour_area = area(first_colour);
+  std::vector<std::uint32_t> packed(colour_area);
+  for (std::size_t k = 0; k < references_.size(); ++k) {
+    if (distance[k]->width() != first.width || distance[k]->height() != first.height) {
+      throw std::invalid_argument("stitch: distance map of reference " +
+                                  std::to_string(references_[k]) +
+                                  " is not at the matching resolution");
+    }
+    if (colour[k]->width() != first_colour.width || colour[k]->height() != first_colour.height ||
+        colour[k]->channels() != 3) {
+      throw std::invalid_argument("stitch: colour image of reference " +
+                                  std::to_string(references_[k]) +
+                                  " is not RGB at the colour resolution");
+    }
+    distances_[k].upload(distance[k]->data(), matching * 4);
+    original_.upload(distance[k]->data(), matching * 4, k * matching * 4);
+    const std::uint8_t* src = colour[k]->data();
+    for (std::uint64_t p = 0; p < colour_area; ++p) {
+      packed[p] = std::uint32_t(src[3 * p]) | (std::uint32_t(src[3 * p + 1]) << 8) |
+                  (std::uint32_t(src[3 * p + 2]) << 16);
+    }
+    colour_.upload(packed.data(), colour_area * 4, k * colour_area * 4);
+  }
+  sequence_.begin();
+  sequence_.begin_stage("warp");
+  for (std::size_t k = 0; k < references_.size(); ++k) warpers_[k].record(sequence_, distances_[k]);
+  for (std::size_t k = 0; k < references_.size(); ++k) {  // side by side for the merge
+    sequence_.copy(warpers_[k].result(), warped_, matching * 4, 0, k * matching * 4);
+  }
+  sequence_.barrier();
+  sequence_.begin_stage("merge");
+  sequence_.dispatch(
+      merge_, {cameras_, weights_, warped_, original_, colour_, out_colour_, out_distance_},
+      MergePush{std::uint32_t(options_.panorama_width), std::uint32_t(options_.panorama_height),
+                std::uint32_t(references_.size())},
+      merge_.groups_for(options_.panorama_width, options_.panorama_height));
+  sequence_.submit_and_wait();
+
+  Panorama out{Rgb8Image(options_.panorama_width, options_.panorama_height, 3),
+               FloatImage(options_.panorama_width, options_.panorama_height, 1),
+               {}};
+  out_distance_.download(out.distance.data(), out.distance.size() * 4);
+  std::vector<std::uint32_t> rgba(out.distance.size());
+  out_colour_.download(rgba.data(), rgba.size() * 4);
+  for (std::size_t p = 0; p < rgba.size(); ++p) {
+    for (int c = 0; c < 3; ++c)
+      out.rgb.data()[3 * p + c] = std::uint8_t((rgba[p] >> (8 * c)) & 255);
+  }
+  out.stage_ms = sequence_.stage_ms();
+  return out;
+}
+
+}  // namespace omnisweep::stitch

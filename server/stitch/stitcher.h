@@ -1,0 +1,72 @@
+// Distance-aware stitching (paper §3.3, ALGORITHM.md §5): two (or more) reference fisheye
+// distance maps and their colour images become an equirectangular colour + distance panorama
+// seen from the viewpoint (by default the mean position of the references). Per reference: the
+// forward warp with z-buffer and directional inpainting of the shared reprojection module, then
+// one merge kernel with blending weights computed once per calibration.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "omnisweep/reproject/forward_warp.h"
+#include "omnisweep/rig/rig.h"
+
+namespace omnisweep::stitch {
+
+struct StitchOptions {
+  int panorama_width = 2048;
+  int panorama_height = 1024;
+  std::optional<Eigen::Vector3d> viewpoint;  // rig frame; default: mean of the references
+  double min_distance = 0.55;
+  double max_distance = 100.0;
+  int inpaint_passes = 32;
+};
+
+struct Panorama {
+  Rgb8Image rgb;
+  FloatImage distance;  // metres from the viewpoint; 0 where no reference saw anything
+  std::vector<std::pair<std::string, double>> stage_ms;
+};
+
+class Stitcher {
+ public:
+  // `matching_rig`: the calibration at the resolution of the distance maps; `colour_rig`: at
+  // the resolution of the colour images (may be higher); `usable` per camera at the matching
+  // resolution (or empty).
+  Stitcher(gpu::Context& context, const Rig& matching_rig, const Rig& colour_rig,
+           const std::vector<int>& references, const std::vector<std::optional<Gray8Image>>& usable,
+           const StitchOptions& options);
+
+  // distance: per reference, matching resolution (metres); colour: per reference, colour
+  // resolution.
+  Panorama stitch(const std::vector<const FloatImage*>& distance,
+                  const std::vector<const Rgb8Image*>& colour);
+
+  const Eigen::Vector3d& viewpoint() const { return viewpoint_; }
+  std::uint64_t gpu_bytes() const { return gpu_bytes_; }
+
+ private:
+  gpu::Context* context_;
+  StitchOptions options_;
+  std::vector<int> references_;
+  Rig matching_rig_;
+  Rig colour_rig_;
+  Eigen::Vector3d viewpoint_;
+  std::uint64_t allocated_before_;
+  std::vector<reproject::ForwardWarper> warpers_;
+  std::vector<gpu::Buffer> distances_;  // per reference, the input maps
+  gpu::Buffer cameras_;
+  gpu::Buffer weights_;
+  gpu::Buffer warped_;
+  gpu::Buffer original_;
+  gpu::Buffer colour_;
+  gpu::Buffer out_colour_;
+  gpu::Buffer out_distance_;
+  gpu::Kernel merge_;
+  gpu::Sequence sequence_;
+  std::uint64_t gpu_bytes_ = 0;
+};
+
+}  // namespace omnisweep::stitch
