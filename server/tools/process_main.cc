@@ -1,0 +1,249 @@
+// omnisweep-process: a dataset in the reference layout to 360-degree colour + distance panoramas
+// (ALGORITHM.md §3-6), like the reference implementation: rgb_<frame>.png and
+// inv_distance_<frame>.exr (float32, m^-1), plus a colourised inv_distance_<frame>.png. With
+// --evaluate, compares with gt/ and prints MAE, RMSE, > 0.1, > 0.4, PSNR, SSIM and ms per frame.
+#include <CLI/CLI.hpp>
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <map>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "omnisweep/dataset/dataset.h"
+#include "omnisweep/image/image_io.h"
+#include "server/depth/depth_estimator.h"
+#include "server/depth/depth_inputs.h"
+#include "server/stitch/panorama_metrics.h"
+#include "server/stitch/stitcher.h"
+#include "server/tools/tool_main.h"
+
+namespace {
+
+using namespace omnisweep;
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+std::vector<std::string> split(const std::string& list) {
+  std::vector<std::string> out;
+  std::stringstream s(list);
+  for (std::string item; std::getline(s, item, ',');) {
+    if (!item.empty()) out.push_back(item);
+  }
+  return out;
+}
+
+std::string json_string(const std::string& s) {
+  std::string out = "\"";
+  for (char c : s) {
+    if (c == '"' || c == '\\') out += '\\';
+    out += c;
+  }
+  return out + "\"";
+}
+
+int run(int argc, char** argv) {
+  CLI::App app{
+      "Turn the frames of a dataset into 360-degree colour + distance panoramas (sphere sweeping "
+      "on the GPU)."};
+  std::string dataset_dir, output_dir, frames, device;
+  depth::DepthOptions options;
+  std::vector<int> matching = {1024, 1024}, rgb_resolution, panorama = {2048, 1024};
+  std::vector<double> viewpoint;
+  bool evaluate = false, json = false;
+  app.add_option("--dataset", dataset_dir, "Dataset in the reference layout")->required();
+  app.add_option("--output", output_dir, "Folder for the panoramas (created if missing)")
+      ->required();
+  app.add_option("--references", options.references, "Reference cameras (default 2 3)")
+      ->expected(1, 16);
+  app.add_option("--frames", frames, "Comma-separated frame names (default: all)");
+  app.add_flag("--evaluate", evaluate,
+               "Compare with gt/rgb_<frame>.png and gt/inv_distance_<frame>.exr");
+  app.add_flag("--json", json, "One JSON object per frame, then one with \"summary\": true");
+  app.add_option("--min-dist", options.min_distance, "Nearest candidate distance, metres")
+      ->check(CLI::PositiveNumber);
+  app.add_option("--max-dist", options.max_distance, "Farthest candidate distance, metres")
+      ->check(CLI::PositiveNumber);
+  app.add_option("--candidates", options.num_candidates, "Number of candidate distances")
+      ->check(CLI::Range(2, 512));
+  app.add_option("--sigma-i", options.sigma_i, "Range sigma of the ISB filter")
+      ->check(CLI::PositiveNumber);
+  app.add_option("--sigma-s", options.sigma_s, "Spatial sigma of the ISB filter at 1024 px")
+      ->check(CLI::PositiveNumber);
+  app.add_option("--matching-resolution", matching, "Width and height of matching")
+      ->expected(2)
+      ->check(CLI::Range(8, 8192));
+  app.add_option("--rgb-resolution", rgb_resolution,
+                 "Width and height colour is sampled at (default: the images')")
+      ->expected(2)
+      ->check(CLI::Range(8, 16384));
+  app.add_option("--panorama-resolution", panorama, "Panorama width and height (2:1)")
+      ->expected(2)
+      ->check(CLI::Range(8, 16384));
+  app.add_option("--viewpoint", viewpoint,
+                 "Panorama centre x y z in the rig frame, metres (default: mean of the references)")
+      ->expected(3);
+  app.add_option(
+      "--vk-device", device,
+      "Vulkan device: index or name substring (default: OMNISWEEP_VK_DEVICE, else the best)");
+  CLI11_PARSE(app, argc, argv);
+  options.matching_width = matching[0];
+  options.matching_height = matching[1];
+
+  const Dataset dataset = Dataset::open(dataset_dir);
+  options.check(dataset.rig().num_cameras());
+  if (evaluate && !dataset.has_ground_truth()) {
+    throw std::runtime_error((fs::path(dataset_dir) / "gt").string() +
+                             ": --evaluate needs ground truth, and there is none");
+  }
+  const Rig matching_rig = dataset.rig().resized(options.matching_width, options.matching_height);
+  const RigCamera& first = dataset.rig().cameras[options.references[0]];
+  const Rig colour_rig = rgb_resolution.empty()
+                             ? dataset.rig()
+                             : dataset.rig().resized(rgb_resolution[0], rgb_resolution[1]);
+  for (int r : options.references) {
+    const RigCamera& cam = dataset.rig().cameras[r];
+    if (rgb_resolution.empty() && (cam.width != first.width || cam.height != first.height)) {
+      throw std::runtime_error("reference cameras differ in size; give --rgb-resolution");
+    }
+  }
+  gpu::Context context(tools::context_options(device));
+  const auto masks = depth::matching_masks(dataset, options);
+  depth::DepthEstimator estimator(context, matching_rig, masks, options);
+  stitch::StitchOptions stitch_options{.panorama_width = panorama[0],
+                                       .panorama_height = panorama[1],
+                                       .viewpoint = {},
+                                       .min_distance = options.min_distance,
+                                       .max_distance = options.max_distance};
+  if (!viewpoint.empty())
+    stitch_options.viewpoint = Eigen::Vector3d(viewpoint[0], viewpoint[1], viewpoint[2]);
+  stitch::Stitcher stitcher(context, matching_rig, colour_rig, options.references, masks,
+                            stitch_options);
+  fs::create_directories(output_dir);
+  if (!json) {
+    std::fprintf(stderr, "device: %s; GPU memory: depth %.1f MiB, stitching %.1f MiB\n",
+                 context.info().name.c_str(), estimator.gpu_bytes() / 1048576.0,
+                 stitcher.gpu_bytes() / 1048576.0);
+  }
+
+  const std::vector<std::string> names = frames.empty() ? dataset.frames() : split(frames);
+  int done = 0, failed = 0;
+  std::map<std::string, double> totals;
+  const auto skipped = dataset.for_each_frame(
+      names,
+      [&](Frame&& frame) {
+        if (names.size() > 1)
+          std::fprintf(stderr, "frame %d/%zu (%s)\n", done + failed + 1, names.size(),
+                       frame.name.c_str());
+        const auto start = Clock::now();
+        const auto images = depth::matching_images(frame, options);
+        const depth::DepthResult result = estimator.estimate(depth::pointers(images));
+        std::vector<Rgb8Image> colour;
+        std::vector<const FloatImage*> distances;
+        std::vector<const Rgb8Image*> colours;
+        for (std::size_t k = 0; k < options.references.size(); ++k) {
+          const RigCamera& cam = colour_rig.cameras[options.references[k]];
+          Rgb8Image rgb = to_rgb8(frame.images[options.references[k]]);
+          if (rgb.width() != cam.width || rgb.height() != cam.height)
+            rgb = resize_area(rgb, cam.width, cam.height);
+          colour.push_back(std::move(rgb));
+          distances.push_back(&result.distance[k]);
+        }
+        for (const auto& c : colour) colours.push_back(&c);
+        const stitch::Panorama pano = stitcher.stitch(distances, colours);
+        const double ms = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+
+        FloatImage inverse(pano.distance.width(), pano.distance.height(), 1);
+        for (std::size_t p = 0; p < inverse.size(); ++p) {
+          inverse.data()[p] = pano.distance.data()[p] > 0 ? 1.0f / pano.distance.data()[p] : 0.0f;
+        }
+        write_png(fs::path(output_dir) / ("rgb_" + frame.name + ".png"), pano.rgb);
+        write_exr(fs::path(output_dir) / ("inv_distance_" + frame.name + ".exr"), inverse);
+        write_png(fs::path(output_dir) / ("inv_distance_" + frame.name + ".png"),
+                  colorize_inverse_distance(inverse, float(1.0 / options.min_distance)));
+
+        std::vector<std::pair<std::string, double>> stages = result.stage_ms;
+        stages.insert(stages.end(), pano.stage_ms.begin(), pano.stage_ms.end());
+        std::optional<stitch::PanoramaMetrics> metrics;
+        if (evaluate) {
+          if (!frame.ground_truth) {
+            std::fprintf(
+                stderr, "frame %s: %s missing, not evaluated\n", frame.name.c_str(),
+                (fs::path(dataset_dir) / "gt" / ("inv_distance_" + frame.name + ".exr")).c_str());
+            ++failed;
+            return;
+          }
+          metrics = stitch::evaluate_panorama(pano.rgb, pano.distance, frame.ground_truth->rgb,
+                                              frame.ground_truth->inverse_distance);
+          totals["mae"] += metrics->mae;
+          totals["rmse"] += metrics->rmse;
+          totals["bad_0_1"] += metrics->bad_0_1;
+          totals["bad_0_4"] += metrics->bad_0_4;
+          totals["psnr"] += metrics->psnr;
+          totals["ssim"] += metrics->ssim;
+        }
+        totals["ms"] += ms;
+        for (const auto& [stage, t] : stages) totals["stage:" + stage] += t;
+        ++done;
+        if (json) {
+          std::printf("{\"frame\": %s", json_string(frame.name).c_str());
+          if (metrics) {
+            std::printf(
+                ", \"mae\": %.6f, \"rmse\": %.6f, \"bad_0_1\": %.6f, \"bad_0_4\": %.6f, \"psnr\": "
+                "%.4f, \"ssim\": %.6f",
+                metrics->mae, metrics->rmse, metrics->bad_0_1, metrics->bad_0_4, metrics->psnr,
+                metrics->ssim);
+          }
+          std::printf(", \"ms\": %.2f, \"stages\": {", ms);
+          for (std::size_t i = 0; i < stages.size(); ++i) {
+            std::printf("%s%s: %.2f", i ? ", " : "", json_string(stages[i].first).c_str(),
+                        stages[i].second);
+          }
+          std::printf("}}\n");
+        } else {
+          std::printf("frame %s:", frame.name.c_str());
+          if (metrics) {
+            std::printf(
+                " MAE %.4f, RMSE %.4f, >0.1 %.2f %%, >0.4 %.2f %%, PSNR %.2f dB, SSIM %.4f,",
+                metrics->mae, metrics->rmse, 100 * metrics->bad_0_1, 100 * metrics->bad_0_4,
+                metrics->psnr, metrics->ssim);
+          }
+          std::printf(" %.1f ms (", ms);
+          for (std::size_t i = 0; i < stages.size(); ++i) {
+            std::printf("%s%s %.1f", i ? ", " : "", stages[i].first.c_str(), stages[i].second);
+          }
+          std::printf(")\n");
+        }
+        std::fflush(stdout);
+      },
+      [&](const SkippedFrame& s) {
+        std::fprintf(stderr, "skipped frame %s: %s\n", s.name.c_str(), s.reason.c_str());
+      });
+
+  const double n = std::max(done, 1);
+  if (json) {
+    std::printf("{\"summary\": true, \"frames\": %d, \"failed\": %zu", done,
+                skipped.size() + failed);
+    for (const char* key : {"mae", "rmse", "bad_0_1", "bad_0_4", "psnr", "ssim"}) {
+      if (evaluate) std::printf(", \"%s\": %.6f", key, totals[key] / n);
+    }
+    std::printf(", \"ms\": %.2f}\n", totals["ms"] / n);
+  } else {
+    std::printf("%d frame(s) written to %s", done, fs::absolute(output_dir).c_str());
+    if (evaluate && done) {
+      std::printf(
+          "; overall MAE %.4f, RMSE %.4f, >0.1 %.2f %%, >0.4 %.2f %%, PSNR %.2f dB, SSIM %.4f",
+          totals["mae"] / n, totals["rmse"] / n, 100 * totals["bad_0_1"] / n,
+          100 * totals["bad_0_4"] / n, totals["psnr"] / n, totals["ssim"] / n);
+    }
+    std::printf("; %.1f ms per frame\n", totals["ms"] / n);
+  }
+  return skipped.empty() && failed == 0 && done > 0 ? 0 : 1;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  return omnisweep::tools::run_tool("omnisweep-process", argc, argv, run);
+}
