@@ -1,4 +1,5 @@
-// Blending weights of distance-aware stitching (ALGORITHM.md §5 step 3), once per calibration:
+// Blending weights of distance-aware stitching (ALGORITHM.md §5 step 3) in plain C++; the
+// Stitcher computes them on the GPU and the tests compare the two. Once per calibration:
 // per panorama pixel and reference camera, how well that camera sees the direction (little
 // parallax, inside its usable mask), normalised over the references, smoothed with a 31x31 box
 // that wraps around the panorama horizontally, and normalised again.

@@ -2,8 +2,6 @@
 
 #include <stdexcept>
 
-#include "server/stitch/blend_weights.h"
-
 namespace omnisweep::stitch {
 namespace {
 
@@ -17,6 +15,18 @@ std::uint64_t area(const RigCamera& c) { return std::uint64_t(c.width) * c.heigh
 
 struct MergePush {
   std::uint32_t width, height, references;
+};
+
+struct BoxPush {
+  std::uint32_t width, height, layers;
+  std::int32_t radius;
+  std::uint32_t axis, wrap;
+  float border;
+};
+
+struct WeightsPush {
+  std::uint32_t width, height, references;
+  float d_min, d_max;
 };
 
 }  // namespace
@@ -75,21 +85,69 @@ Stitcher::Stitcher(gpu::Context& context, const Rig& matching_rig, const Rig& co
   }
   cameras_.upload(cameras.data(), cameras.size() * sizeof(reproject::GpuCamera));
 
-  BlendSetup setup{&matching_rig,
-                   references,
-                   viewpoint_,
-                   {},
-                   options.min_distance,
-                   options.max_distance,
-                   options.panorama_width,
-                   options.panorama_height};
-  for (const auto& mask : usable)
-    setup.usable.emplace_back(mask ? std::optional<Gray8Image>(mask->clone()) : std::nullopt);
-  const std::vector<FloatImage> weights = blend_weights(setup);
-  const std::size_t pano = std::size_t(options.panorama_width) * options.panorama_height;
-  for (std::size_t k = 0; k < weights.size(); ++k)
-    weights_.upload(weights[k].data(), pano * 4, k * pano * 4);
+  compute_weights(usable);
   gpu_bytes_ = context.allocated_bytes() - allocated_before_;
+}
+
+void Stitcher::compute_weights(const std::vector<std::optional<Gray8Image>>& usable) {
+  gpu::Context& context = *context_;
+  const RigCamera& first = matching_rig_.cameras[references_[0]];
+  const auto w = std::uint32_t(first.width), h = std::uint32_t(first.height);
+  const auto pw = std::uint32_t(options_.panorama_width),
+             ph = std::uint32_t(options_.panorama_height);
+  const auto layers = std::uint32_t(references_.size());
+  // Usable masks as 0/1 floats, one per reference.
+  std::vector<float> masks(std::size_t(w) * h * layers, 1.0f);
+  for (std::size_t k = 0; k < references_.size(); ++k) {
+    const int ref = references_[k];
+    if (usable.empty() || !usable[ref]) continue;
+    for (std::size_t i = 0; i < std::size_t(w) * h; ++i)
+      masks[k * w * h + i] = usable[ref]->data()[i] ? 1.0f : 0.0f;
+  }
+  gpu::Buffer mask_buffer(context, masks.size() * 4), mask_tmp(context, masks.size() * 4),
+      weight_tmp(context, weights_.size());
+  mask_buffer.upload(std::span<const float>(masks));
+  const gpu::Kernel box(context, "box_filter",
+                        {.bindings = {1, 1}, .push_constant_bytes = sizeof(BoxPush)});
+  const gpu::Kernel raw(context, "blend_weights",
+                        {.bindings = {1, 1, 1}, .push_constant_bytes = sizeof(WeightsPush)});
+  const gpu::Kernel normalise(context, "normalize_weights",
+                              {.bindings = {1}, .push_constant_bytes = sizeof(MergePush)});
+  gpu::Sequence seq(context, 16, 1);
+  seq.begin();
+  // A 31x31 box in two passes over `layers` images, through `scratch`.
+  auto box_31 = [&](gpu::Buffer& image, gpu::Buffer& scratch, std::uint32_t width,
+                    std::uint32_t height, std::uint32_t wrap_x, float border) {
+    seq.dispatch(box, {image, scratch}, BoxPush{width, height, layers, 15, 0, wrap_x, border},
+                 box.groups_for(width, height, layers));
+    seq.barrier();
+    seq.dispatch(box, {scratch, image}, BoxPush{width, height, layers, 15, 1, 0, border},
+                 box.groups_for(width, height, layers));
+    seq.barrier();
+  };
+  box_31(mask_buffer, mask_tmp, w, h, 0, 1.0f);  // masks: the border padded with 1
+  seq.dispatch(
+      raw, {cameras_, mask_buffer, weights_},
+      WeightsPush{pw, ph, layers, float(options_.min_distance), float(options_.max_distance)},
+      raw.groups_for(pw, ph));
+  seq.barrier();
+  const MergePush planes{pw, ph, layers};
+  seq.dispatch(normalise, {weights_}, planes, normalise.groups_for(pw, ph));
+  seq.barrier();
+  // Smoothed with a 31x31 box that wraps around horizontally, then normalised again.
+  box_31(weights_, weight_tmp, pw, ph, 1, 0.0f);
+  seq.dispatch(normalise, {weights_}, planes, normalise.groups_for(pw, ph));
+  seq.submit_and_wait();
+}
+
+std::vector<FloatImage> Stitcher::weights() const {
+  std::vector<FloatImage> out;
+  const std::size_t plane = std::size_t(options_.panorama_width) * options_.panorama_height;
+  for (std::size_t k = 0; k < references_.size(); ++k) {
+    out.emplace_back(options_.panorama_width, options_.panorama_height, 1);
+    weights_.download(out.back().data(), plane * 4, k * plane * 4);
+  }
+  return out;
 }
 
 Panorama Stitcher::stitch(const std::vector<const FloatImage*>& distance,

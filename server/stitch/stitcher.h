@@ -2,7 +2,7 @@
 // distance maps and their colour images become an equirectangular colour + distance panorama
 // seen from the viewpoint (by default the mean position of the references). Per reference: the
 // forward warp with z-buffer and directional inpainting of the shared reprojection module, then
-// one merge kernel with blending weights computed once per calibration.
+// one merge kernel with blending weights computed on the GPU once per calibration.
 #pragma once
 
 #include <optional>
@@ -45,9 +45,13 @@ class Stitcher {
                   const std::vector<const Rgb8Image*>& colour);
 
   const Eigen::Vector3d& viewpoint() const { return viewpoint_; }
+  // The blending weights per reference (panorama size), as computed on the GPU.
+  std::vector<FloatImage> weights() const;
   std::uint64_t gpu_bytes() const { return gpu_bytes_; }
 
  private:
+  void compute_weights(const std::vector<std::optional<Gray8Image>>& usable);
+
   gpu::Context* context_;
   StitchOptions options_;
   std::vector<int> references_;

@@ -70,6 +70,26 @@ TEST_F(StitcherTest, PanoramaMatchesTheGroundTruth) {
   Stitcher stitcher(context(), matching_rig, rig.rig(), options.references, usable,
                     {.panorama_width = pano_w, .panorama_height = pano_h});
   EXPECT_TRUE(stitcher.viewpoint().isApprox(rig.viewpoint(), 1e-12));
+  {  // The GPU's blending weights against the plain C++ version.
+    BlendSetup setup{&matching_rig, options.references, rig.viewpoint(), {}, 0.55, 100.0, pano_w,
+                     pano_h};
+    for (const auto& u : usable) setup.usable.emplace_back(u->clone());
+    const std::vector<FloatImage> cpu = blend_weights(setup), gpu = stitcher.weights();
+    double worst = 0;
+    long close = 0;
+    for (std::size_t k = 0; k < cpu.size(); ++k) {
+      for (std::size_t i = 0; i < cpu[k].size(); ++i) {
+        const double d = std::abs(double(cpu[k].data()[i]) - gpu[k].data()[i]);
+        worst = std::max(worst, d);
+        close += d < 1e-3;
+      }
+    }
+    const double share = double(close) / double(2 * cpu[0].size());
+    std::cout << "blending weights GPU vs C++: " << 100 * share
+              << " % within 1e-3, largest difference " << worst << "\n";
+    EXPECT_GT(share, 0.999);
+    EXPECT_LT(worst, 0.02);
+  }
   const Panorama pano = stitcher.stitch({&depth.distance[0], &depth.distance[1]},
                                         {&frame.cameras[2].rgb, &frame.cameras[3].rgb});
   const PanoramaMetrics m = evaluate_panorama(pano.rgb, pano.distance, frame.panorama.rgb,

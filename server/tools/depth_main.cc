@@ -4,7 +4,6 @@
 #include <CLI/CLI.hpp>
 #include <cstdio>
 #include <filesystem>
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -13,6 +12,7 @@
 #include "omnisweep/image/image_io.h"
 #include "server/depth/depth_estimator.h"
 #include "server/depth/depth_inputs.h"
+#include "server/tools/depth_flags.h"
 #include "server/tools/tool_main.h"
 
 namespace {
@@ -20,46 +20,18 @@ namespace {
 using namespace omnisweep;
 namespace fs = std::filesystem;
 
-std::vector<std::string> split(const std::string& list) {
-  std::vector<std::string> out;
-  std::stringstream s(list);
-  for (std::string item; std::getline(s, item, ',');) {
-    if (!item.empty()) out.push_back(item);
-  }
-  return out;
-}
-
 int run(int argc, char** argv) {
   CLI::App app{"Estimate fisheye distance maps of the reference cameras of a dataset on the GPU."};
   std::string dataset_dir, output_dir, frames, device;
   depth::DepthOptions options;
-  std::vector<int> matching = {1024, 1024};
   bool evaluate = false;
   app.add_option("--dataset", dataset_dir, "Dataset in the reference layout")->required();
   app.add_option("--output", output_dir, "Folder for the distance maps (created if missing)")
       ->required();
   app.add_option("--frames", frames, "Comma-separated frame names (default: all)");
-  app.add_option("--references", options.references, "Reference cameras")->expected(1, 16);
-  app.add_option("--candidates", options.num_candidates, "Number of candidate distances")
-      ->check(CLI::Range(2, 512));
-  app.add_option("--min-dist", options.min_distance, "Nearest candidate distance, metres")
-      ->check(CLI::PositiveNumber);
-  app.add_option("--max-dist", options.max_distance, "Farthest candidate distance, metres")
-      ->check(CLI::PositiveNumber);
-  app.add_option("--sigma-i", options.sigma_i, "Range sigma of the ISB filter")
-      ->check(CLI::PositiveNumber);
-  app.add_option("--sigma-s", options.sigma_s, "Spatial sigma of the ISB filter at 1024 px")
-      ->check(CLI::PositiveNumber);
-  app.add_option("--matching-resolution", matching, "Width and height images are matched at")
-      ->expected(2)
-      ->check(CLI::Range(8, 8192));
-  app.add_option(
-      "--vk-device", device,
-      "Vulkan device: index or name substring (default: OMNISWEEP_VK_DEVICE, else the best)");
   app.add_flag("--evaluate", evaluate, "Compare with gt/cam<i>/inv_distance_<frame>.exr");
+  tools::add_depth_flags(app, options, device);
   CLI11_PARSE(app, argc, argv);
-  options.matching_width = matching[0];
-  options.matching_height = matching[1];
 
   const Dataset dataset = Dataset::open(dataset_dir);
   options.check(dataset.rig().num_cameras());
@@ -73,7 +45,7 @@ int run(int argc, char** argv) {
 
   int done = 0, failed = 0;
   const auto skipped = dataset.for_each_frame(
-      split(frames),
+      tools::split_list(frames),
       [&](Frame&& frame) {
         const auto images = depth::matching_images(frame, options);
         const depth::DepthResult result = estimator.estimate(depth::pointers(images));

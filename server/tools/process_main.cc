@@ -7,7 +7,6 @@
 #include <cstdio>
 #include <filesystem>
 #include <map>
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -17,6 +16,7 @@
 #include "server/depth/depth_inputs.h"
 #include "server/stitch/panorama_metrics.h"
 #include "server/stitch/stitcher.h"
+#include "server/tools/depth_flags.h"
 #include "server/tools/tool_main.h"
 
 namespace {
@@ -24,15 +24,6 @@ namespace {
 using namespace omnisweep;
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
-
-std::vector<std::string> split(const std::string& list) {
-  std::vector<std::string> out;
-  std::stringstream s(list);
-  for (std::string item; std::getline(s, item, ',');) {
-    if (!item.empty()) out.push_back(item);
-  }
-  return out;
-}
 
 std::string json_string(const std::string& s) {
   std::string out = "\"";
@@ -49,31 +40,16 @@ int run(int argc, char** argv) {
       "on the GPU)."};
   std::string dataset_dir, output_dir, frames, device;
   depth::DepthOptions options;
-  std::vector<int> matching = {1024, 1024}, rgb_resolution, panorama = {2048, 1024};
+  std::vector<int> rgb_resolution, panorama = {2048, 1024};
   std::vector<double> viewpoint;
   bool evaluate = false, json = false;
   app.add_option("--dataset", dataset_dir, "Dataset in the reference layout")->required();
   app.add_option("--output", output_dir, "Folder for the panoramas (created if missing)")
       ->required();
-  app.add_option("--references", options.references, "Reference cameras (default 2 3)")
-      ->expected(1, 16);
   app.add_option("--frames", frames, "Comma-separated frame names (default: all)");
   app.add_flag("--evaluate", evaluate,
                "Compare with gt/rgb_<frame>.png and gt/inv_distance_<frame>.exr");
   app.add_flag("--json", json, "One JSON object per frame, then one with \"summary\": true");
-  app.add_option("--min-dist", options.min_distance, "Nearest candidate distance, metres")
-      ->check(CLI::PositiveNumber);
-  app.add_option("--max-dist", options.max_distance, "Farthest candidate distance, metres")
-      ->check(CLI::PositiveNumber);
-  app.add_option("--candidates", options.num_candidates, "Number of candidate distances")
-      ->check(CLI::Range(2, 512));
-  app.add_option("--sigma-i", options.sigma_i, "Range sigma of the ISB filter")
-      ->check(CLI::PositiveNumber);
-  app.add_option("--sigma-s", options.sigma_s, "Spatial sigma of the ISB filter at 1024 px")
-      ->check(CLI::PositiveNumber);
-  app.add_option("--matching-resolution", matching, "Width and height of matching")
-      ->expected(2)
-      ->check(CLI::Range(8, 8192));
   app.add_option("--rgb-resolution", rgb_resolution,
                  "Width and height colour is sampled at (default: the images')")
       ->expected(2)
@@ -84,12 +60,8 @@ int run(int argc, char** argv) {
   app.add_option("--viewpoint", viewpoint,
                  "Panorama centre x y z in the rig frame, metres (default: mean of the references)")
       ->expected(3);
-  app.add_option(
-      "--vk-device", device,
-      "Vulkan device: index or name substring (default: OMNISWEEP_VK_DEVICE, else the best)");
+  tools::add_depth_flags(app, options, device);
   CLI11_PARSE(app, argc, argv);
-  options.matching_width = matching[0];
-  options.matching_height = matching[1];
 
   const Dataset dataset = Dataset::open(dataset_dir);
   options.check(dataset.rig().num_cameras());
@@ -127,7 +99,8 @@ int run(int argc, char** argv) {
                  stitcher.gpu_bytes() / 1048576.0);
   }
 
-  const std::vector<std::string> names = frames.empty() ? dataset.frames() : split(frames);
+  const std::vector<std::string> names =
+      frames.empty() ? dataset.frames() : tools::split_list(frames);
   int done = 0, failed = 0;
   std::map<std::string, double> totals;
   const auto skipped = dataset.for_each_frame(

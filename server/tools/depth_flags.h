@@ -1,0 +1,52 @@
+// Command-line flags shared by the programs that estimate distance: the parameters of the
+// reference implementation with their defaults (DepthOptions), and comma-separated lists.
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "server/depth/depth_options.h"
+
+namespace omnisweep::tools {
+
+// --references, --candidates, --min-dist, --max-dist, --sigma-i, --sigma-s,
+// --matching-resolution W H (written into the options) and --vk-device (into `device`).
+inline void add_depth_flags(CLI::App& app, depth::DepthOptions& options, std::string& device) {
+  app.add_option("--references", options.references, "Reference cameras (default 2 3)")
+      ->expected(1, 16);
+  app.add_option("--candidates", options.num_candidates, "Number of candidate distances")
+      ->check(CLI::Range(2, 512));
+  app.add_option("--min-dist", options.min_distance, "Nearest candidate distance, metres")
+      ->check(CLI::PositiveNumber);
+  app.add_option("--max-dist", options.max_distance, "Farthest candidate distance, metres")
+      ->check(CLI::PositiveNumber);
+  app.add_option("--sigma-i", options.sigma_i, "Range sigma of the ISB filter")
+      ->check(CLI::PositiveNumber);
+  app.add_option("--sigma-s", options.sigma_s, "Spatial sigma of the ISB filter at 1024 px")
+      ->check(CLI::PositiveNumber);
+  app.add_option_function<std::vector<int>>(
+         "--matching-resolution",
+         [&options](const std::vector<int>& size) {
+           options.matching_width = size[0];
+           options.matching_height = size[1];
+         },
+         "Width and height images are matched at (default 1024 1024)")
+      ->expected(2)
+      ->check(CLI::Range(8, 8192));
+  app.add_option(
+      "--vk-device", device,
+      "Vulkan device: index or name substring (default: OMNISWEEP_VK_DEVICE, else the best)");
+}
+
+inline std::vector<std::string> split_list(const std::string& list) {
+  std::vector<std::string> out;
+  std::stringstream s(list);
+  for (std::string item; std::getline(s, item, ',');) {
+    if (!item.empty()) out.push_back(item);
+  }
+  return out;
+}
+
+}  // namespace omnisweep::tools
