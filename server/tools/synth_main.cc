@@ -81,11 +81,11 @@ int run(int argc, char** argv) {
       write.num_frames, rig.rig().num_cameras(), cam.width, cam.height, write.panorama_width,
       write.panorama_height, (stats.render_seconds + stats.write_seconds) / write.num_frames,
       stats.render_seconds / write.num_frames, stats.write_seconds / write.num_frames);
-  std::printf("dataset:   %s\n", std::filesystem::absolute(output).c_str());
-  std::printf("panorama:  %s\n", std::filesystem::absolute(std::filesystem::path(output) / "gt" /
+  std::printf("dataset:                %s\n", std::filesystem::absolute(output).c_str());
+  std::printf("ground-truth panorama:  %s\n", std::filesystem::absolute(std::filesystem::path(output) / "gt" /
                                                            ("rgb_" + last + ".png"))
                                      .c_str());
-  std::printf("distance:  %s\n",
+  std::printf("ground-truth distance:  %s\n",
               std::filesystem::absolute(preview / ("inv_distance_" + last + ".png")).c_str());
   return 0;
 }
