@@ -1,0 +1,79 @@
+// Codecs for the RGB-D stream, plugin-style as in ROS 2 image_transport: each codec has a name
+// and encode/decode; a frame carries the codec's name and parameters, so any receiver decodes
+// any frame alone. Decoders check everything they read: a corrupt, truncated or mismatched
+// payload throws CodecError and never reads out of bounds.
+//
+//   colour:   "jpeg"        libjpeg-turbo, quality 1-100 (default 90), 4:2:0
+//   distance: "qinv16-zstd" inverse distance quantised to 16 bits over [1/d_max, 1/d_min] (0 =
+//             no value), LOCO-I median prediction, byte planes, zstd with a content checksum.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "omnisweep/image/image.h"
+
+namespace omnisweep::codec {
+
+class CodecError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+using Bytes = std::vector<std::uint8_t>;
+
+class ColorCodec {
+ public:
+  virtual ~ColorCodec() = default;
+  virtual std::string name() const = 0;
+  virtual Bytes encode(const Rgb8Image& image) const = 0;
+  // Throws CodecError unless `payload` is a whole image of width x height.
+  virtual Rgb8Image decode(std::span<const std::uint8_t> payload, int width, int height) const = 0;
+};
+
+// How distance maps are quantised; travels with every frame.
+struct DistanceParams {
+  float min_distance = 0.55f;    // metres: 1 / d_min is the top of the inverse-distance range
+  float max_distance = 100.0f;   // metres
+  std::uint32_t levels = 65535;  // quantisation levels over [1/d_max, 1/d_min] (2 .. 65535)
+  std::uint32_t downsample = 1;  // 1: full resolution, 2: half (the light setting)
+
+  void check() const;  // throws CodecError naming the bad parameter
+  // Largest inverse-distance error quantisation adds, m^-1 (half a level).
+  double max_quantisation_error() const;
+};
+
+class DistanceCodec {
+ public:
+  virtual ~DistanceCodec() = default;
+  virtual std::string name() const = 0;
+  // `distance` in metres; <= 0 or non-finite means no value and survives as 0.
+  virtual Bytes encode(const FloatImage& distance, const DistanceParams& params) const = 0;
+  // Throws CodecError unless `payload` holds a width x height map encoded with `params`.
+  virtual FloatImage decode(std::span<const std::uint8_t> payload, int width, int height,
+                            const DistanceParams& params) const = 0;
+};
+
+struct ColorOptions {
+  int quality = 90;
+};
+
+// CRC-32 (zlib's) of a payload. JPEG carries no checksum of its own, so every payload travels
+// with this one and receivers call verify_checksum before decoding: a flipped bit anywhere is
+// then an error rather than a wrong image.
+std::uint32_t checksum(std::span<const std::uint8_t> payload);
+void verify_checksum(std::span<const std::uint8_t> payload,
+                     std::uint32_t expected);  // throws CodecError
+
+// Throws CodecError for unknown names; known names are listed by the functions below.
+std::unique_ptr<ColorCodec> make_color_codec(const std::string& name,
+                                             const ColorOptions& options = {});
+std::unique_ptr<DistanceCodec> make_distance_codec(const std::string& name);
+std::vector<std::string> color_codec_names();
+std::vector<std::string> distance_codec_names();
+
+}  // namespace omnisweep::codec

@@ -1,0 +1,157 @@
+// The stream codecs: round trips, the quantisation bound, sizes, and bad payloads (truncated,
+// bit-flipped, mismatched) that must give CodecError, never a crash or an out-of-bounds read.
+#include "omnisweep/codec/codec.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+namespace omnisweep::codec {
+namespace {
+
+Rgb8Image test_image(int w, int h) {
+  Rgb8Image im(w, h, 3);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x)
+      for (int c = 0; c < 3; ++c)
+        im(x, y, c) = std::uint8_t(128 + 100 * std::sin(0.05 * x * (c + 1) + 0.07 * y));
+  return im;
+}
+
+// A distance map with smooth surfaces, an edge and holes (like an estimated map).
+FloatImage test_distance(int w, int h) {
+  FloatImage d(w, h, 1);
+  std::mt19937 rng(4);
+  std::normal_distribution<float> noise(0.0f, 0.01f);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      float v = 0.55f + 20.0f * float(y) / float(h);
+      if (x > w / 3 && x < w / 2) v = 1.5f;  // a near object
+      d(x, y) = std::max(0.55f, v * (1.0f + noise(rng)));
+    }
+  d(3, 3) = 0.0f;  // no value
+  d(4, 3) = NAN;
+  return d;
+}
+
+TEST(Codec, RegistryByName) {
+  EXPECT_EQ(make_color_codec("jpeg")->name(), "jpeg");
+  EXPECT_EQ(make_distance_codec("qinv16-zstd")->name(), "qinv16-zstd");
+  EXPECT_THROW(make_color_codec("png"), CodecError);
+  EXPECT_THROW(make_distance_codec("raw"), CodecError);
+  EXPECT_THROW(make_color_codec("jpeg", {.quality = 0}), CodecError);
+}
+
+TEST(JpegCodec, RoundTripAndMismatches) {
+  const auto jpeg = make_color_codec("jpeg");
+  const Rgb8Image im = test_image(160, 96);
+  const Bytes bytes = jpeg->encode(im);
+  const Rgb8Image back = jpeg->decode(bytes, 160, 96);
+  double mse = 0;
+  for (std::size_t i = 0; i < im.size(); ++i)
+    mse += std::pow(double(im.data()[i]) - back.data()[i], 2);
+  const double psnr = 10 * std::log10(255.0 * 255.0 / (mse / double(im.size())));
+  std::cout << "jpeg q90: " << bytes.size() << " bytes, PSNR " << psnr << " dB\n";
+  EXPECT_GT(psnr, 35.0);
+  EXPECT_THROW(jpeg->decode(bytes, 161, 96), CodecError);
+  EXPECT_THROW(jpeg->decode({}, 160, 96), CodecError);
+}
+
+TEST(DistanceCodec, QuantisationBoundAtDefaults) {
+  const DistanceParams params;
+  // Half a level of 16 bits over [1/100, 1/0.55] m^-1.
+  EXPECT_LT(params.max_quantisation_error(), 1e-4);
+  EXPECT_NEAR(params.max_quantisation_error(), 0.5 * (1 / 0.55 - 1 / 100.0) / 65534, 1e-12);
+  // Measured over every distance in [0.55, 100] m on a fine grid.
+  const int n = 200000;
+  FloatImage d(n, 1, 1);
+  for (int i = 0; i < n; ++i)
+    d(i, 0) = float(1.0 / (1.0 / 100 + (1 / 0.55 - 1 / 100.0) * i / (n - 1)));
+  const auto codec = make_distance_codec("qinv16-zstd");
+  const FloatImage back = codec->decode(codec->encode(d, params), n, 1, params);
+  double worst = 0;
+  for (int i = 0; i < n; ++i) worst = std::max(worst, std::abs(1.0 / back(i, 0) - 1.0 / d(i, 0)));
+  std::cout << "largest inverse-distance error at defaults: " << worst << " m^-1 (bound "
+            << params.max_quantisation_error() << ")\n";
+  EXPECT_LE(worst, params.max_quantisation_error() * 1.01 + 1e-7);  // float storage of the input
+}
+
+TEST(DistanceCodec, RoundTripKeepsHolesAndTheLightSetting) {
+  const auto codec = make_distance_codec("qinv16-zstd");
+  const FloatImage d = test_distance(200, 120);
+  const DistanceParams full;
+  const FloatImage back = codec->decode(codec->encode(d, full), 200, 120, full);
+  EXPECT_EQ(back(3, 3), 0.0f);
+  EXPECT_EQ(back(4, 3), 0.0f);
+  EXPECT_NEAR(1.0 / back(50, 50), 1.0 / d(50, 50), full.max_quantisation_error() * 1.01);
+  const DistanceParams light{.levels = 4096, .downsample = 2};
+  const Bytes small = codec->encode(d, light);
+  const FloatImage coarse = codec->decode(small, 200, 120, light);
+  EXPECT_EQ(coarse.width(), 200);
+  EXPECT_GT(coarse(10, 60), 0.0f);
+  EXPECT_LT(small.size(), codec->encode(d, full).size());
+}
+
+TEST(DistanceCodec, BadPayloadsAreErrors) {
+  const auto codec = make_distance_codec("qinv16-zstd");
+  const DistanceParams params;
+  const Bytes good = codec->encode(test_distance(64, 48), params);
+  EXPECT_THROW(codec->decode(good, 65, 48, params), CodecError);  // mismatched size
+  EXPECT_THROW(codec->decode(good, 64, 48, DistanceParams{.downsample = 2}), CodecError);
+  EXPECT_THROW(codec->decode(good, 0, 48, params), CodecError);
+  EXPECT_THROW(codec->decode(good, 1 << 20, 1 << 20, params), CodecError);
+  for (std::size_t cut :
+       {std::size_t(0), std::size_t(5), std::size_t(12), good.size() / 2, good.size() - 1}) {
+    EXPECT_THROW(codec->decode(std::span(good).first(cut), 64, 48, params), CodecError)
+        << "cut at " << cut;
+  }
+  // A flipped bit is an error (zstd's content checksum, the header checks), or lands where it
+  // changes nothing (e.g. a zstd window-size field) and decodes to the very same map; it
+  // never yields a different map. The CRC that travels with payloads catches all of them.
+  const FloatImage original = codec->decode(good, 64, 48, params);
+  const std::uint32_t crc = checksum(good);
+  std::mt19937 rng(9);
+  int caught = 0;
+  for (int trial = 0; trial < 300; ++trial) {
+    Bytes bad = good;
+    bad[rng() % bad.size()] ^= std::uint8_t(1u << (rng() % 8));
+    EXPECT_THROW(verify_checksum(bad, crc), CodecError);
+    try {
+      const FloatImage decoded = codec->decode(bad, 64, 48, params);
+      ASSERT_TRUE(
+          std::equal(decoded.pixels().begin(), decoded.pixels().end(), original.pixels().begin()))
+          << "a flipped bit changed the map without an error";
+    } catch (const CodecError&) {
+      ++caught;
+    }
+  }
+  std::cout << caught << " of 300 single-bit flips rejected by the decoder itself\n";
+  EXPECT_GT(caught, 290);
+}
+
+TEST(JpegCodec, TruncatedAndFlippedPayloadsNeverCrash) {
+  const auto jpeg = make_color_codec("jpeg");
+  const Bytes good = jpeg->encode(test_image(96, 64));
+  for (std::size_t cut :
+       {std::size_t(0), std::size_t(3), std::size_t(100), good.size() / 2, good.size() - 2}) {
+    EXPECT_THROW(jpeg->decode(std::span(good).first(cut), 96, 64), CodecError) << "cut at " << cut;
+  }
+  std::mt19937 rng(10);
+  const std::uint32_t crc = checksum(good);
+  for (int trial = 0; trial < 300; ++trial) {
+    Bytes bad = good;
+    bad[rng() % bad.size()] ^= std::uint8_t(1u << (rng() % 8));
+    // The checksum that travels with every payload catches every flip...
+    EXPECT_THROW(verify_checksum(bad, crc), CodecError);
+    // ...and decoding a flipped JPEG anyway either fails cleanly or yields an image of the size.
+    try {
+      EXPECT_EQ(jpeg->decode(bad, 96, 64).width(), 96);
+    } catch (const CodecError&) {
+    }
+  }
+  EXPECT_NO_THROW(verify_checksum(good, crc));
+}
+
+}  // namespace
+}  // namespace omnisweep::codec
