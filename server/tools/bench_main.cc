@@ -12,15 +12,21 @@
 #include <cstdio>
 #include <map>
 #include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <opencv2/ximgproc/edge_filter.hpp>
 #include <string>
 #include <vector>
 
+#include "omnisweep/codec/codec.h"
+#include "omnisweep/dataset/dataset.h"
 #include "omnisweep/gpu/context.h"
+#include "omnisweep/image/image_io.h"
 #include "server/depth/depth_estimator.h"
 #include "server/depth/depth_fixtures.h"
+#include "server/depth/depth_inputs.h"
 #include "server/depth/depth_reference.h"
+#include "server/stitch/stitcher.h"
 #include "server/tools/tool_main.h"
 
 namespace {
@@ -95,12 +101,138 @@ std::vector<float> per_slice(const std::vector<float>& volume, int width, int he
   return out;
 }
 
+// An estimated 2048x1024 panorama (defaults) of a frame: what the server compresses.
+stitch::Panorama estimate_panorama(gpu::Context& context, const Rig& rig,
+                                   const std::vector<Rgb8Image>& images,
+                                   const std::vector<std::optional<Gray8Image>>& masks_full) {
+  depth::DepthOptions options;
+  const Rig matching_rig = rig.resized(options.matching_width, options.matching_height);
+  std::vector<std::optional<Gray8Image>> usable;
+  for (const auto& m : masks_full) {
+    if (m) {
+      usable.emplace_back(usable_mask(*m, options.matching_width, options.matching_height));
+    } else {
+      usable.emplace_back(std::nullopt);
+    }
+  }
+  std::vector<Rgb8Image> matching;
+  for (const auto& im : images)
+    matching.push_back(resize_area(im, options.matching_width, options.matching_height));
+  depth::DepthEstimator estimator(context, matching_rig, usable, options);
+  const depth::DepthResult result = estimator.estimate(depth::pointers(matching));
+  stitch::Stitcher stitcher(context, matching_rig, rig, options.references, usable, {});
+  return stitcher.stitch({&result.distance[0], &result.distance[1]}, {&images[2], &images[3]});
+}
+
+template <typename F>
+double median_ms(int runs, F&& f) {
+  std::vector<double> t;
+  for (int i = 0; i < runs; ++i) {
+    const auto start = Clock::now();
+    f();
+    t.push_back(std::chrono::duration<double, std::milli>(Clock::now() - start).count());
+  }
+  return median(t);
+}
+
+// Distance codec vs 16-bit PNG (ROS 2 compressedDepth) and JPEG sizes on estimated panoramas.
+void codec_section(gpu::Context& context, const std::string& kaist_dir, bool json) {
+  std::vector<std::pair<std::string, stitch::Panorama>> panoramas;
+  {
+    const synthetic::SyntheticRig rig;
+    synthetic::SyntheticFrame frame = rig.render(0, 64, 32);
+    std::vector<Rgb8Image> images;
+    std::vector<std::optional<Gray8Image>> masks;
+    for (auto& c : frame.cameras) images.push_back(std::move(c.rgb));
+    for (auto& m : rig.masks()) masks.emplace_back(std::move(m));
+    panoramas.emplace_back("synthetic", estimate_panorama(context, rig.rig(), images, masks));
+  }
+  if (!kaist_dir.empty() &&
+      std::filesystem::exists(std::filesystem::path(kaist_dir) / "calibration.json")) {
+    const Dataset kaist = Dataset::open(kaist_dir);
+    const Frame frame = kaist.load_frame(kaist.frames().at(0));
+    std::vector<Rgb8Image> images;
+    for (const auto& im : frame.images) images.push_back(to_rgb8(im));
+    std::vector<std::optional<Gray8Image>> masks;
+    for (const auto& m : kaist.masks())
+      masks.emplace_back(m ? std::optional<Gray8Image>(m->clone()) : std::nullopt);
+    panoramas.emplace_back("kaist-rig", estimate_panorama(context, kaist.rig(), images, masks));
+  }
+  const auto distance_codec = codec::make_distance_codec("qinv16-zstd");
+  const codec::DistanceParams full, light{.levels = 4096, .downsample = 2};
+  if (!json) {
+    std::printf("\nCodecs on estimated 2048x1024 panoramas (median of 5; sizes in KB)\n");
+    std::printf("%-10s %-34s %9s %10s %10s %12s\n", "panorama", "codec", "KB", "encode ms",
+                "decode ms", "max err m^-1");
+  }
+  auto row = [&](const std::string& pano, const std::string& name, std::size_t bytes, double enc,
+                 double dec, double err) {
+    if (json) {
+      std::printf(
+          "{\"kind\": \"codec\", \"panorama\": \"%s\", \"codec\": \"%s\", \"bytes\": %zu, "
+          "\"encode_ms\": %.3f, "
+          "\"decode_ms\": %.3f, \"max_error\": %.6g}\n",
+          pano.c_str(), name.c_str(), bytes, enc, dec, err);
+    } else {
+      std::printf("%-10s %-34s %9.1f %10.2f %10.2f %12.3g\n", pano.c_str(), name.c_str(),
+                  bytes / 1024.0, enc, dec, err);
+    }
+  };
+  for (const auto& [label, pano] : panoramas) {
+    const int w = pano.distance.width(), h = pano.distance.height();
+    for (const auto* params : {&full, &light}) {
+      codec::Bytes bytes;
+      const double enc =
+          median_ms(5, [&] { bytes = distance_codec->encode(pano.distance, *params); });
+      FloatImage back;
+      const double dec = median_ms(5, [&] { back = distance_codec->decode(bytes, w, h, *params); });
+      double worst = 0;
+      for (std::size_t i = 0; i < back.size(); ++i) {
+        const float d = pano.distance.data()[i];
+        if (d > 0) worst = std::max(worst, std::abs(1.0 / back.data()[i] - 1.0 / d));
+      }
+      row(label,
+          params == &full ? "qinv16-zstd (default)" : "qinv16-zstd light (4096 levels, 1/2 res)",
+          bytes.size(), enc, dec, worst);
+    }
+    // 16-bit PNG of the same quantised levels, zlib level 1, as ROS 2 compressedDepth stores them.
+    cv::Mat levels(h, w, CV_16UC1);
+    const double lo = 1.0 / full.max_distance, hi = 1.0 / full.min_distance;
+    for (int p = 0; p < w * h; ++p) {
+      const float d = pano.distance.data()[p];
+      levels.at<std::uint16_t>(p) =
+          d > 0 ? std::uint16_t(1 + std::lround((std::clamp(1.0 / d, lo, hi) - lo) / (hi - lo) *
+                                                (full.levels - 1)))
+                : 0;
+    }
+    std::vector<std::uint8_t> png;
+    const double png_enc = median_ms(5, [&] {
+      cv::imencode(".png", levels, png, {cv::IMWRITE_PNG_COMPRESSION, 1});
+    });
+    const double png_dec = median_ms(5, [&] { cv::imdecode(png, cv::IMREAD_UNCHANGED); });
+    row(label, "png16 level 1 (same levels)", png.size(), png_enc, png_dec,
+        full.max_quantisation_error());
+    for (int quality : {90, 70}) {
+      const auto jpeg = codec::make_color_codec("jpeg", {.quality = quality});
+      codec::Bytes bytes;
+      const double enc = median_ms(5, [&] { bytes = jpeg->encode(pano.rgb); });
+      const double dec = median_ms(5, [&] { jpeg->decode(bytes, w, h); });
+      row(label, "jpeg q" + std::to_string(quality) + " (colour)", bytes.size(), enc, dec, 0);
+    }
+  }
+}
+
 int run(int argc, char** argv) {
   CLI::App app{
       "Benchmark the GPU depth stages and the ISB filter against OpenCV's edge-aware filters."};
   std::vector<int> resolutions = {256, 512, 1024};
   int filter_resolution = 1024, iterations = 3;
-  bool json = false, skip_fbs = false;
+  bool json = false, skip_fbs = false, skip_codecs = false;
+  std::string kaist_dir;
+  if (const char* shared = std::getenv("OMNISWEEP_SHARED_DIR"))
+    kaist_dir = std::string(shared) + "/data/kaist-rig";
+  if (kaist_dir.empty() && std::filesystem::exists("../shared/data/kaist-rig"))
+    kaist_dir = "../shared/data/kaist-rig";
   std::string device;
   app.add_option("--resolutions", resolutions, "Matching resolutions (square) for the stage table")
       ->check(CLI::Range(16, 4096));
@@ -113,6 +245,9 @@ int run(int argc, char** argv) {
       "Vulkan device: index or name substring (default: OMNISWEEP_VK_DEVICE, else the best)");
   app.add_flag("--json", json, "One JSON object per row instead of tables");
   app.add_flag("--skip-fbs", skip_fbs, "Leave out the (slow) fast bilateral solver");
+  app.add_flag("--skip-codecs", skip_codecs, "Leave out the codec comparison");
+  app.add_option("--kaist", kaist_dir,
+                 "kaist-rig dataset for the codec comparison (default ../shared/data/kaist-rig)");
   CLI11_PARSE(app, argc, argv);
 
   gpu::Context context(tools::context_options(device));
@@ -260,6 +395,7 @@ int run(int argc, char** argv) {
   }
   rows.push_back({"none", "raw cost", 0.0, score(raw, options, gt, usable)});
 
+  if (!skip_codecs) codec_section(context, kaist_dir, json);
   if (json) {
     for (const Row& r : rows) {
       if (r.method == "none") continue;

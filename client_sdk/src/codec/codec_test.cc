@@ -60,9 +60,10 @@ TEST(JpegCodec, RoundTripAndMismatches) {
 
 TEST(DistanceCodec, QuantisationBoundAtDefaults) {
   const DistanceParams params;
-  // Half a level of 16 bits over [1/100, 1/0.55] m^-1.
+  // Half a level of the default 10000 levels over [1/100, 1/0.55] m^-1: 9.04e-5.
   EXPECT_LT(params.max_quantisation_error(), 1e-4);
-  EXPECT_NEAR(params.max_quantisation_error(), 0.5 * (1 / 0.55 - 1 / 100.0) / 65534, 1e-12);
+  EXPECT_NEAR(params.max_quantisation_error(), 0.5 * (1 / 0.55 - 1 / 100.0) / 9999,
+              1e-10);  // float params
   // Measured over every distance in [0.55, 100] m on a fine grid.
   const int n = 200000;
   FloatImage d(n, 1, 1);

@@ -4,7 +4,8 @@
 // payload throws CodecError and never reads out of bounds.
 //
 //   colour:   "jpeg"        libjpeg-turbo, quality 1-100 (default 90), 4:2:0
-//   distance: "qinv16-zstd" inverse distance quantised to 16 bits over [1/d_max, 1/d_min] (0 =
+//   distance: "qinv16-zstd" inverse distance quantised to 16-bit levels over [1/d_max, 1/d_min] (0
+//   =
 //             no value), LOCO-I median prediction, byte planes, zstd with a content checksum.
 #pragma once
 
@@ -37,9 +38,11 @@ class ColorCodec {
 
 // How distance maps are quantised; travels with every frame.
 struct DistanceParams {
-  float min_distance = 0.55f;    // metres: 1 / d_min is the top of the inverse-distance range
-  float max_distance = 100.0f;   // metres
-  std::uint32_t levels = 65535;  // quantisation levels over [1/d_max, 1/d_min] (2 .. 65535)
+  float min_distance = 0.55f;   // metres: 1 / d_min is the top of the inverse-distance range
+  float max_distance = 100.0f;  // metres
+  // Quantisation levels over [1/d_max, 1/d_min] (2 .. 65535). 10000 keeps the error within
+  // 1e-4 m^-1 over [0.55, 100] m (9.04e-5) without spending bits on the estimate's noise.
+  std::uint32_t levels = 10000;
   std::uint32_t downsample = 1;  // 1: full resolution, 2: half (the light setting)
 
   void check() const;  // throws CodecError naming the bad parameter
