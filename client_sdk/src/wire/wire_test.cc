@@ -1,0 +1,106 @@
+// The wire format through a real CDR serialisation (what DDS sends), and bad messages.
+#include "omnisweep/wire/wire.h"
+
+#include <fastcdr/Cdr.h>
+#include <fastcdr/FastBuffer.h>
+#include <gtest/gtest.h>
+
+#include "omnisweep/rig/basalt_calibration.h"
+#include "tests/support/test_support.h"
+
+namespace omnisweep::wire {
+namespace {
+
+template <typename T>
+T cdr_round_trip(const T& message) {
+  std::vector<char> storage(T::getCdrSerializedSize(message) + 64);
+  eprosima::fastcdr::FastBuffer buffer(storage.data(), storage.size());
+  eprosima::fastcdr::Cdr writer(buffer);
+  message.serialize(writer);
+  T back;
+  eprosima::fastcdr::FastBuffer read_buffer(storage.data(), writer.getSerializedDataLength());
+  eprosima::fastcdr::Cdr reader(read_buffer);
+  back.deserialize(reader);
+  return back;
+}
+
+msg::RgbdFrame make_frame(int w, int h) {
+  Rgb8Image rgb(w, h, 3);
+  FloatImage distance(w, h, 1);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      for (int c = 0; c < 3; ++c) rgb(x, y, c) = std::uint8_t((x * 3 + y * 5 + c * 70) % 256);
+      distance(x, y) = 0.6f + 0.01f * float(x + y);
+    }
+  const codec::DistanceParams params;
+  msg::RgbdFrame frame;
+  frame.sequence_number(42);
+  frame.width(std::uint32_t(w));
+  frame.height(std::uint32_t(h));
+  frame.capture_time_ns({1, 2, 3, 4});
+  frame.color(make_payload("jpeg", codec::make_color_codec("jpeg")->encode(rgb)));
+  frame.distance(make_payload("qinv16-zstd",
+                              codec::make_distance_codec("qinv16-zstd")->encode(distance, params)));
+  frame.distance_params(to_message(params));
+  return frame;
+}
+
+TEST(Wire, FrameSurvivesCdrAndDecodes) {
+  const msg::RgbdFrame sent = make_frame(256, 128);
+  const msg::RgbdFrame received = cdr_round_trip(sent);
+  EXPECT_EQ(received.sequence_number(), 42u);
+  EXPECT_EQ(received.capture_time_ns().size(), 4u);
+  EXPECT_EQ(received.color().data(), sent.color().data());  // JPEG bytes identical
+  const DecodedFrame frame = decode_frame(received);
+  EXPECT_EQ(frame.rgb.width(), 256);
+  EXPECT_NEAR(1.0 / frame.distance(10, 20), 1.0 / (0.6 + 0.3),
+              codec::DistanceParams().max_quantisation_error() * 1.01);
+}
+
+TEST(Wire, CorruptOrMismatchedFramesAreErrors) {
+  msg::RgbdFrame frame = make_frame(64, 32);
+  frame.color().data()[100] ^= 0x10;
+  EXPECT_THROW(decode_frame(frame), WireError);  // CRC mismatch
+  frame = make_frame(64, 32);
+  frame.width(128);
+  frame.height(64);
+  EXPECT_ANY_THROW(decode_frame(frame));  // payloads of another size
+  frame = make_frame(64, 32);
+  frame.width(100);
+  EXPECT_THROW(decode_frame(frame), WireError);  // not 2:1
+  frame = make_frame(64, 32);
+  frame.distance().codec("lz4");
+  EXPECT_THROW(decode_frame(frame), codec::CodecError);
+  frame = make_frame(64, 32);
+  frame.distance_params().levels(1);
+  EXPECT_THROW(decode_frame(frame), WireError);
+}
+
+TEST(Wire, DescriptionCarriesTheRig) {
+  const Rig rig = read_basalt_calibration(testing::kaist_rig_dir() / "calibration.json");
+  msg::StreamDescription description;
+  add_rig(rig, &description);
+  description.references({2, 3});
+  const Rig back = rig_from_description(cdr_round_trip(description));
+  ASSERT_EQ(back.num_cameras(), 4);
+  EXPECT_EQ(back.cameras[2].model.params(), rig.cameras[2].model.params());
+  EXPECT_TRUE(back.cameras[3].rig_from_cam.translation == rig.cameras[3].rig_from_cam.translation);
+
+  msg::StreamDescription bad = description;
+  bad.cameras()[1].params()[5] = 1.5;  // alpha
+  try {
+    rig_from_description(bad);
+    FAIL();
+  } catch (const WireError& e) {
+    EXPECT_STREQ(e.what(), "description.cameras[1].params.alpha: must be within [0, 1]");
+  }
+  bad = description;
+  bad.cameras()[0].camera_type("fisheye");
+  EXPECT_THROW(rig_from_description(bad), WireError);
+  bad = description;
+  bad.cameras().resize(1);
+  EXPECT_THROW(rig_from_description(bad), WireError);
+}
+
+}  // namespace
+}  // namespace omnisweep::wire
