@@ -133,11 +133,7 @@ void DepthEstimator::upload_images(const std::vector<const Rgb8Image*>& images) 
                                   ", expected RGB at the matching resolution " +
                                   std::to_string(width_) + "x" + std::to_string(height_));
     }
-    const std::uint8_t* src = im.data();
-    for (std::size_t p = 0; p < pixels; ++p) {
-      packed[c * pixels + p] = std::uint32_t(src[3 * p]) | (std::uint32_t(src[3 * p + 1]) << 8) |
-                               (std::uint32_t(src[3 * p + 2]) << 16) | 0xff000000u;
-    }
+    reproject::pack_rgba8(im, std::span(packed).subspan(c * pixels, pixels));
   }
   images_.upload(std::span<const std::uint32_t>(packed));
 }

@@ -173,16 +173,14 @@ Panorama Stitcher::stitch(const std::vector<const FloatImage*>& distance,
                                   " is not RGB at the colour resolution");
     }
     distances_[k].upload(distance[k]->data(), matching * 4);
-    original_.upload(distance[k]->data(), matching * 4, k * matching * 4);
-    const std::uint8_t* src = colour[k]->data();
-    for (std::uint64_t p = 0; p < colour_area; ++p) {
-      packed[p] = std::uint32_t(src[3 * p]) | (std::uint32_t(src[3 * p + 1]) << 8) |
-                  (std::uint32_t(src[3 * p + 2]) << 16);
-    }
+    reproject::pack_rgba8(*colour[k], packed);
     colour_.upload(packed.data(), colour_area * 4, k * colour_area * 4);
   }
   sequence_.begin();
   sequence_.begin_stage("warp");
+  for (std::size_t k = 0; k < references_.size(); ++k) {  // the unwarped maps, side by side
+    sequence_.copy(distances_[k], original_, matching * 4, 0, k * matching * 4);
+  }
   for (std::size_t k = 0; k < references_.size(); ++k) warpers_[k].record(sequence_, distances_[k]);
   for (std::size_t k = 0; k < references_.size(); ++k) {  // side by side for the merge
     sequence_.copy(warpers_[k].result(), warped_, matching * 4, 0, k * matching * 4);

@@ -3,8 +3,10 @@
 #pragma once
 
 #include <cstdint>
+#include <span>
 #include <vector>
 
+#include "omnisweep/image/image.h"
 #include "omnisweep/rig/rig.h"
 
 namespace omnisweep::reproject {
@@ -19,6 +21,10 @@ struct GpuCamera {
   std::uint32_t height;
 };
 static_assert(sizeof(GpuCamera) == 96, "must match the std430 layout of struct Camera");
+
+// RGB8 pixels as the shaders read them (pixels.glsl): one uint per pixel, r in the lowest
+// byte, alpha 255. `out` must hold width x height values.
+void pack_rgba8(const Rgb8Image& rgb, std::span<std::uint32_t> out);
 
 // Every camera of `rig` with its transform from camera `reference`'s frame.
 std::vector<GpuCamera> pack_cameras(const Rig& rig, int reference);
