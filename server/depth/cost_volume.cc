@@ -4,6 +4,15 @@
 
 namespace omnisweep::depth {
 
+gpu::KernelLayout volume_kernel_layout(std::vector<std::uint32_t> bindings,
+                                       std::uint32_t push_bytes, VolumeLayout layout) {
+  return {.bindings = std::move(bindings),
+          .push_constant_bytes = push_bytes,
+          .local_size = {8, 8, 1},
+          .constants = {gpu::SpecConstant::of(0, std::uint32_t(layout.channels_per_chunk)),
+                        gpu::SpecConstant::of(1, std::uint32_t(layout.chunks))}};
+}
+
 VolumeLayout plan_volume(const gpu::Context& context, int width, int height, int channels) {
   const std::uint64_t limit = context.info().max_storage_buffer_range;
   const std::uint64_t pixel_bytes = std::uint64_t(width) * height * sizeof(float);

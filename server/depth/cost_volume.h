@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "omnisweep/gpu/buffer.h"
+#include "omnisweep/gpu/kernel.h"
 
 namespace omnisweep::depth {
 
@@ -19,6 +20,12 @@ struct VolumeLayout {
   int chunks = 1;
   int channels() const { return channels_per_chunk * chunks; }  // candidates plus padding
 };
+
+// The layout of a kernel that binds chunk arrays: `bindings` as in gpu::KernelLayout, 8x8
+// workgroups, and the volume's channels per chunk and chunk count as specialization constants
+// 0 and 1 (shaders/include/volume.glsl).
+gpu::KernelLayout volume_kernel_layout(std::vector<std::uint32_t> bindings,
+                                       std::uint32_t push_bytes, VolumeLayout layout);
 
 // The layout for `channels` channels at width x height on this device; throws GpuError when even
 // one channel per chunk needs more than kMaxChunks chunks.

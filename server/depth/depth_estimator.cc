@@ -23,15 +23,6 @@ struct WtaPush {
   float inv_d_min, inv_d_max, d_max;
 };
 
-gpu::KernelLayout volume_kernel(std::vector<std::uint32_t> bindings, std::uint32_t push,
-                                VolumeLayout layout) {
-  return {.bindings = std::move(bindings),
-          .push_constant_bytes = push,
-          .local_size = {8, 8, 1},
-          .constants = {gpu::SpecConstant::of(0, std::uint32_t(layout.channels_per_chunk)),
-                        gpu::SpecConstant::of(1, std::uint32_t(layout.chunks))}};
-}
-
 const Rig& checked(const Rig& rig, const DepthOptions& options) {
   options.check(rig.num_cameras());
   rig.check();
@@ -65,9 +56,9 @@ DepthEstimator::DepthEstimator(gpu::Context& context, const Rig& rig,
       guide_kernel_(context, "ycbcr_guide",
                     {.bindings = {1, 1}, .push_constant_bytes = sizeof(GuidePush)}),
       sweep_kernel_(context, "sphere_sweep_cost",
-                    volume_kernel({1, 1, 1, kMaxChunks}, sizeof(SweepPush), layout_)),
+                    volume_kernel_layout({1, 1, 1, kMaxChunks}, sizeof(SweepPush), layout_)),
       wta_kernel_(context, "winner_take_all",
-                  volume_kernel({kMaxChunks, 1}, sizeof(WtaPush), layout_)),
+                  volume_kernel_layout({kMaxChunks, 1}, sizeof(WtaPush), layout_)),
       volume_(context, width_, height_, layout_),
       filter_(context, width_, height_, layout_),
       post_filter_(context, width_, height_, VolumeLayout{1, 1}),

@@ -4,22 +4,27 @@
 
 namespace omnisweep::depth {
 
-std::vector<Rgb8Image> matching_images(const Frame& frame, const DepthOptions& options) {
+std::vector<Rgb8Image> rgb8_images(const Frame& frame) {
   std::vector<Rgb8Image> out;
-  for (const AnyImage& image : frame.images) {
-    Rgb8Image rgb = to_rgb8(image);
-    if (rgb.width() != options.matching_width || rgb.height() != options.matching_height) {
-      rgb = resize_area(rgb, options.matching_width, options.matching_height);
-    }
-    out.push_back(std::move(rgb));
+  for (const AnyImage& image : frame.images) out.push_back(to_rgb8(image));
+  return out;
+}
+
+std::vector<Rgb8Image> matching_images(const std::vector<Rgb8Image>& images,
+                                       const DepthOptions& options) {
+  std::vector<Rgb8Image> out;
+  for (const Rgb8Image& rgb : images) {
+    out.push_back(rgb.width() == options.matching_width && rgb.height() == options.matching_height
+                      ? rgb.clone()
+                      : resize_area(rgb, options.matching_width, options.matching_height));
   }
   return out;
 }
 
-std::vector<std::optional<Gray8Image>> matching_masks(const Dataset& dataset,
-                                                      const DepthOptions& options) {
+std::vector<std::optional<Gray8Image>> matching_masks(
+    const std::vector<std::optional<Gray8Image>>& masks, const DepthOptions& options) {
   std::vector<std::optional<Gray8Image>> out;
-  for (const auto& mask : dataset.masks()) {
+  for (const auto& mask : masks) {
     if (mask) {
       out.emplace_back(usable_mask(*mask, options.matching_width, options.matching_height));
     } else {

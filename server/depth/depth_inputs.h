@@ -1,5 +1,5 @@
-// Brings dataset frames to the depth estimator (the file edge: OpenCV resizing): images as
-// 8-bit RGB at the matching resolution (area interpolation, rounded), masks thresholded as
+// Brings frames to the depth estimator (the file edge: OpenCV resizing): images as 8-bit RGB,
+// at the matching resolution by area interpolation (rounded), and masks thresholded as
 // ALGORITHM.md §2 prescribes.
 #pragma once
 
@@ -11,9 +11,14 @@
 
 namespace omnisweep::depth {
 
-std::vector<Rgb8Image> matching_images(const Frame& frame, const DepthOptions& options);
-std::vector<std::optional<Gray8Image>> matching_masks(const Dataset& dataset,
-                                                      const DepthOptions& options);
+// Every camera image of a frame as 8-bit RGB at its stored resolution (colour for stitching).
+std::vector<Rgb8Image> rgb8_images(const Frame& frame);
+// The same images at the matching resolution.
+std::vector<Rgb8Image> matching_images(const std::vector<Rgb8Image>& images,
+                                       const DepthOptions& options);
+// Masks (at any resolution; nullopt = all usable) as usable masks at the matching resolution.
+std::vector<std::optional<Gray8Image>> matching_masks(
+    const std::vector<std::optional<Gray8Image>>& masks, const DepthOptions& options);
 std::vector<const Rgb8Image*> pointers(const std::vector<Rgb8Image>& images);
 
 }  // namespace omnisweep::depth

@@ -5,14 +5,6 @@
 namespace omnisweep::depth {
 namespace {
 
-gpu::KernelLayout isb_layout(VolumeLayout layout, std::uint32_t push_bytes) {
-  return {.bindings = {1, 1, kMaxChunks, kMaxChunks},
-          .push_constant_bytes = push_bytes,
-          .local_size = {8, 8, 1},
-          .constants = {gpu::SpecConstant::of(0, std::uint32_t(layout.channels_per_chunk)),
-                        gpu::SpecConstant::of(1, std::uint32_t(layout.chunks))}};
-}
-
 struct DownPush {
   std::uint32_t fine_width, fine_height, coarse_width, coarse_height;
   float inv_two_sigma_sq;
@@ -35,8 +27,10 @@ IsbFilter::IsbFilter(gpu::Context& context, int width, int height, VolumeLayout 
     : context_(&context),
       layout_(layout),
       dummy_(context, 16),
-      down_(context, "isb_downsample", isb_layout(layout, sizeof(DownPush))),
-      up_(context, "isb_upsample", isb_layout(layout, sizeof(UpPush))) {
+      down_(context, "isb_downsample",
+            volume_kernel_layout({1, 1, kMaxChunks, kMaxChunks}, sizeof(DownPush), layout)),
+      up_(context, "isb_upsample",
+          volume_kernel_layout({1, 1, kMaxChunks, kMaxChunks}, sizeof(UpPush), layout)) {
   if (!context.info().buffer_array_indexing) {
     throw gpu::GpuError(context.info().name +
                         " lacks shaderStorageBufferArrayDynamicIndexing, which the filter needs");

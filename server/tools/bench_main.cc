@@ -107,17 +107,8 @@ stitch::Panorama estimate_panorama(gpu::Context& context, const Rig& rig,
                                    const std::vector<std::optional<Gray8Image>>& masks_full) {
   depth::DepthOptions options;
   const Rig matching_rig = rig.resized(options.matching_width, options.matching_height);
-  std::vector<std::optional<Gray8Image>> usable;
-  for (const auto& m : masks_full) {
-    if (m) {
-      usable.emplace_back(usable_mask(*m, options.matching_width, options.matching_height));
-    } else {
-      usable.emplace_back(std::nullopt);
-    }
-  }
-  std::vector<Rgb8Image> matching;
-  for (const auto& im : images)
-    matching.push_back(resize_area(im, options.matching_width, options.matching_height));
+  const auto usable = depth::matching_masks(masks_full, options);
+  const std::vector<Rgb8Image> matching = depth::matching_images(images, options);
   depth::DepthEstimator estimator(context, matching_rig, usable, options);
   const depth::DepthResult result = estimator.estimate(depth::pointers(matching));
   stitch::Stitcher stitcher(context, matching_rig, rig, options.references, usable, {});
@@ -151,12 +142,9 @@ void codec_section(gpu::Context& context, const std::string& kaist_dir, bool jso
       std::filesystem::exists(std::filesystem::path(kaist_dir) / "calibration.json")) {
     const Dataset kaist = Dataset::open(kaist_dir);
     const Frame frame = kaist.load_frame(kaist.frames().at(0));
-    std::vector<Rgb8Image> images;
-    for (const auto& im : frame.images) images.push_back(to_rgb8(im));
-    std::vector<std::optional<Gray8Image>> masks;
-    for (const auto& m : kaist.masks())
-      masks.emplace_back(m ? std::optional<Gray8Image>(m->clone()) : std::nullopt);
-    panoramas.emplace_back("kaist-rig", estimate_panorama(context, kaist.rig(), images, masks));
+    panoramas.emplace_back(
+        "kaist-rig",
+        estimate_panorama(context, kaist.rig(), depth::rgb8_images(frame), kaist.masks()));
   }
   const auto distance_codec = codec::make_distance_codec("qinv16-zstd");
   const codec::DistanceParams full, light{.levels = 4096, .downsample = 2};

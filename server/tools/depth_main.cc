@@ -38,7 +38,7 @@ int run(int argc, char** argv) {
   gpu::Context context(tools::context_options(device));
   depth::DepthEstimator estimator(
       context, dataset.rig().resized(options.matching_width, options.matching_height),
-      depth::matching_masks(dataset, options), options);
+      depth::matching_masks(dataset.masks(), options), options);
   fs::create_directories(output_dir);
   std::fprintf(stderr, "device: %s; GPU memory for depth: %.1f MiB\n", context.info().name.c_str(),
                double(estimator.gpu_bytes()) / (1 << 20));
@@ -47,7 +47,7 @@ int run(int argc, char** argv) {
   const auto skipped = dataset.for_each_frame(
       tools::split_list(frames),
       [&](Frame&& frame) {
-        const auto images = depth::matching_images(frame, options);
+        const auto images = depth::matching_images(depth::rgb8_images(frame), options);
         const depth::DepthResult result = estimator.estimate(depth::pointers(images));
         std::printf("frame %s:", frame.name.c_str());
         for (const auto& [stage, ms] : result.stage_ms)

@@ -81,7 +81,7 @@ int run(int argc, char** argv) {
     }
   }
   gpu::Context context(tools::context_options(device));
-  const auto masks = depth::matching_masks(dataset, options);
+  const auto masks = depth::matching_masks(dataset.masks(), options);
   depth::DepthEstimator estimator(context, matching_rig, masks, options);
   stitch::StitchOptions stitch_options{.panorama_width = panorama[0],
                                        .panorama_height = panorama[1],
@@ -110,14 +110,15 @@ int run(int argc, char** argv) {
           std::fprintf(stderr, "frame %d/%zu (%s)\n", done + failed + 1, names.size(),
                        frame.name.c_str());
         const auto start = Clock::now();
-        const auto images = depth::matching_images(frame, options);
+        std::vector<Rgb8Image> full = depth::rgb8_images(frame);
+        const auto images = depth::matching_images(full, options);
         const depth::DepthResult result = estimator.estimate(depth::pointers(images));
         std::vector<Rgb8Image> colour;
         std::vector<const FloatImage*> distances;
         std::vector<const Rgb8Image*> colours;
         for (std::size_t k = 0; k < options.references.size(); ++k) {
           const RigCamera& cam = colour_rig.cameras[options.references[k]];
-          Rgb8Image rgb = to_rgb8(frame.images[options.references[k]]);
+          Rgb8Image rgb = std::move(full[options.references[k]]);
           if (rgb.width() != cam.width || rgb.height() != cam.height)
             rgb = resize_area(rgb, cam.width, cam.height);
           colour.push_back(std::move(rgb));

@@ -82,9 +82,10 @@ int run(int argc, char** argv) {
       write.panorama_height, (stats.render_seconds + stats.write_seconds) / write.num_frames,
       stats.render_seconds / write.num_frames, stats.write_seconds / write.num_frames);
   std::printf("dataset:                %s\n", std::filesystem::absolute(output).c_str());
-  std::printf("ground-truth panorama:  %s\n", std::filesystem::absolute(std::filesystem::path(output) / "gt" /
-                                                           ("rgb_" + last + ".png"))
-                                     .c_str());
+  std::printf(
+      "ground-truth panorama:  %s\n",
+      std::filesystem::absolute(std::filesystem::path(output) / "gt" / ("rgb_" + last + ".png"))
+          .c_str());
   std::printf("ground-truth distance:  %s\n",
               std::filesystem::absolute(preview / ("inv_distance_" + last + ".png")).c_str());
   return 0;

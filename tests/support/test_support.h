@@ -26,9 +26,6 @@ class ScratchDir {
   std::filesystem::path path_;
 };
 
-std::string read_text(const std::filesystem::path& path);
-void write_text(const std::filesystem::path& path, const std::string& text);
-
 // Runs a shell command, returns its exit status and fills *output with stdout+stderr.
 int run_command(const std::string& command, std::string* output);
 
