@@ -147,23 +147,23 @@ void codec_section(gpu::Context& context, const std::string& kaist_dir, bool jso
         estimate_panorama(context, kaist.rig(), depth::rgb8_images(frame), kaist.masks()));
   }
   const auto distance_codec = codec::make_distance_codec("qinv16-zstd");
-  const codec::DistanceParams full, light{.levels = 4096, .downsample = 2};
+  const codec::DistanceParams full, light = codec::kLightDistance;
   if (!json) {
     std::printf("\nCodecs on estimated 2048x1024 panoramas (median of 5; sizes in KB)\n");
-    std::printf("%-10s %-34s %9s %10s %10s %12s\n", "panorama", "codec", "KB", "encode ms",
-                "decode ms", "max err m^-1");
+    std::printf("%-10s %-38s %8s %10s %10s %10s %10s\n", "panorama", "codec", "KB", "encode ms",
+                "decode ms", "mean err", "max err");
   }
   auto row = [&](const std::string& pano, const std::string& name, std::size_t bytes, double enc,
-                 double dec, double err) {
+                 double dec, double mean_err, double err) {
     if (json) {
       std::printf(
           "{\"kind\": \"codec\", \"panorama\": \"%s\", \"codec\": \"%s\", \"bytes\": %zu, "
           "\"encode_ms\": %.3f, "
-          "\"decode_ms\": %.3f, \"max_error\": %.6g}\n",
-          pano.c_str(), name.c_str(), bytes, enc, dec, err);
+          "\"decode_ms\": %.3f, \"mean_error\": %.6g, \"max_error\": %.6g}\n",
+          pano.c_str(), name.c_str(), bytes, enc, dec, mean_err, err);
     } else {
-      std::printf("%-10s %-34s %9.1f %10.2f %10.2f %12.3g\n", pano.c_str(), name.c_str(),
-                  bytes / 1024.0, enc, dec, err);
+      std::printf("%-10s %-38s %8.1f %10.2f %10.2f %10.3g %10.3g\n", pano.c_str(), name.c_str(),
+                  bytes / 1024.0, enc, dec, mean_err, err);
     }
   };
   for (const auto& [label, pano] : panoramas) {
@@ -174,14 +174,21 @@ void codec_section(gpu::Context& context, const std::string& kaist_dir, bool jso
           median_ms(5, [&] { bytes = distance_codec->encode(pano.distance, *params); });
       FloatImage back;
       const double dec = median_ms(5, [&] { back = distance_codec->decode(bytes, w, h, *params); });
-      double worst = 0;
+      double worst = 0, sum = 0;
+      std::size_t count = 0;
       for (std::size_t i = 0; i < back.size(); ++i) {
         const float d = pano.distance.data()[i];
-        if (d > 0) worst = std::max(worst, std::abs(1.0 / back.data()[i] - 1.0 / d));
+        if (d <= 0) continue;
+        const double error = std::abs(1.0 / back.data()[i] - 1.0 / d);
+        worst = std::max(worst, error);
+        sum += error;
+        ++count;
       }
       row(label,
-          params == &full ? "qinv16-zstd (default)" : "qinv16-zstd light (4096 levels, 1/2 res)",
-          bytes.size(), enc, dec, worst);
+          params == &full ? "qinv16-zstd (default)"
+                          : "qinv16-zstd light (" + std::to_string(light.levels) + " levels, 1/" +
+                                std::to_string(light.downsample) + " res)",
+          bytes.size(), enc, dec, sum / double(std::max<std::size_t>(count, 1)), worst);
     }
     // 16-bit PNG of the same quantised levels, zlib level 1, as ROS 2 compressedDepth stores them.
     cv::Mat levels(h, w, CV_16UC1);
@@ -199,54 +206,20 @@ void codec_section(gpu::Context& context, const std::string& kaist_dir, bool jso
     });
     const double png_dec = median_ms(5, [&] { cv::imdecode(png, cv::IMREAD_UNCHANGED); });
     row(label, "png16 level 1 (same levels)", png.size(), png_enc, png_dec,
-        full.max_quantisation_error());
-    for (int quality : {90, 70}) {
+        full.max_quantisation_error() / 2, full.max_quantisation_error());
+    for (int quality : {codec::ColorOptions{}.quality, codec::kLightJpegQuality}) {
       const auto jpeg = codec::make_color_codec("jpeg", {.quality = quality});
       codec::Bytes bytes;
       const double enc = median_ms(5, [&] { bytes = jpeg->encode(pano.rgb); });
       const double dec = median_ms(5, [&] { jpeg->decode(bytes, w, h); });
-      row(label, "jpeg q" + std::to_string(quality) + " (colour)", bytes.size(), enc, dec, 0);
+      row(label, "jpeg q" + std::to_string(quality) + " (colour)", bytes.size(), enc, dec, 0, 0);
     }
   }
 }
 
-int run(int argc, char** argv) {
-  CLI::App app{
-      "Benchmark the GPU depth stages and the ISB filter against OpenCV's edge-aware filters."};
-  std::vector<int> resolutions = {256, 512, 1024};
-  int filter_resolution = 1024, iterations = 3;
-  bool json = false, skip_fbs = false, skip_codecs = false;
-  std::string kaist_dir;
-  if (const char* shared = std::getenv("OMNISWEEP_SHARED_DIR"))
-    kaist_dir = std::string(shared) + "/data/kaist-rig";
-  if (kaist_dir.empty() && std::filesystem::exists("../shared/data/kaist-rig"))
-    kaist_dir = "../shared/data/kaist-rig";
-  std::string device;
-  app.add_option("--resolutions", resolutions, "Matching resolutions (square) for the stage table")
-      ->check(CLI::Range(16, 4096));
-  app.add_option("--filter-resolution", filter_resolution, "Resolution of the filter comparison")
-      ->check(CLI::Range(16, 4096));
-  app.add_option("--iterations", iterations, "Runs per measurement (the median is reported)")
-      ->check(CLI::Range(1, 100));
-  app.add_option(
-      "--vk-device", device,
-      "Vulkan device: index or name substring (default: OMNISWEEP_VK_DEVICE, else the best)");
-  app.add_flag("--json", json, "One JSON object per row instead of tables");
-  app.add_flag("--skip-fbs", skip_fbs, "Leave out the (slow) fast bilateral solver");
-  app.add_flag("--skip-codecs", skip_codecs, "Leave out the codec comparison");
-  app.add_option("--kaist", kaist_dir,
-                 "kaist-rig dataset for the codec comparison (default ../shared/data/kaist-rig)");
-  CLI11_PARSE(app, argc, argv);
-
-  gpu::Context context(tools::context_options(device));
-  const auto& info = context.info();
-  if (!json) {
-    std::printf("device: %s (%s, Vulkan %s), maxStorageBufferRange %llu MiB\n\n", info.name.c_str(),
-                info.type.c_str(), info.api_version.c_str(),
-                static_cast<unsigned long long>(info.max_storage_buffer_range >> 20));
-  }
-
-  // 1. GPU time per stage, both references, at each resolution.
+// 1. GPU time per stage, both references, at each resolution.
+void stage_section(gpu::Context& context, const std::vector<int>& resolutions, int iterations,
+                   bool json) {
   const std::vector<std::string> stages = {"sweep_cost", "filter", "wta", "post_filter"};
   std::map<int, std::map<std::string, double>> ms;
   std::map<int, double> memory_mib;
@@ -294,7 +267,11 @@ int run(int argc, char** argv) {
     std::printf("(pixels grow 4x per step: linear time means a ratio near 4)\n\n");
   }
 
-  // 2. The filters side by side on one raw cost volume (reference 2, synthetic frame 0).
+}
+
+// 2. The filters side by side on one raw cost volume (reference 2, synthetic frame 0).
+void filter_section(gpu::Context& context, int filter_resolution, int iterations, bool skip_fbs,
+                    bool json) {
   const int size = filter_resolution;
   const auto scene = depth::fixtures::render_depth_case(size);
   depth::DepthOptions options;
@@ -383,7 +360,6 @@ int run(int argc, char** argv) {
   }
   rows.push_back({"none", "raw cost", 0.0, score(raw, options, gt, usable)});
 
-  if (!skip_codecs) codec_section(context, kaist_dir, json);
   if (json) {
     for (const Row& r : rows) {
       if (r.method == "none") continue;
@@ -392,7 +368,7 @@ int run(int argc, char** argv) {
           "%.5f, \"bad_0_4\": %.5f}\n",
           r.method.c_str(), r.ms, r.accuracy.mae, r.accuracy.bad_0_1, r.accuracy.bad_0_4);
     }
-    return 0;
+    return;
   }
   std::printf(
       "Filters on the same cost volume (%dx%d x %d candidates, reference %d), scored by "
@@ -407,6 +383,53 @@ int run(int argc, char** argv) {
   }
   const double isb_ms = rows[0].ms, guided_ms = rows[1].ms;
   std::printf("ISB is %.1fx faster than the guided filter here\n", guided_ms / isb_ms);
+}
+
+int run(int argc, char** argv) {
+  CLI::App app{
+      "Benchmark the GPU depth stages and the ISB filter against OpenCV's edge-aware filters."};
+  std::vector<int> resolutions = {256, 512, 1024};
+  int filter_resolution = 1024, iterations = 3;
+  bool json = false, skip_fbs = false;
+  std::vector<std::string> sections = {"stages", "filters", "codecs"};
+  std::string kaist_dir;
+  if (const char* shared = std::getenv("OMNISWEEP_SHARED_DIR"))
+    kaist_dir = std::string(shared) + "/data/kaist-rig";
+  if (kaist_dir.empty() && std::filesystem::exists("../shared/data/kaist-rig"))
+    kaist_dir = "../shared/data/kaist-rig";
+  std::string device;
+  app.add_option("--resolutions", resolutions, "Matching resolutions (square) for the stage table")
+      ->check(CLI::Range(16, 4096));
+  app.add_option("--filter-resolution", filter_resolution, "Resolution of the filter comparison")
+      ->check(CLI::Range(16, 4096));
+  app.add_option("--iterations", iterations, "Runs per measurement (the median is reported)")
+      ->check(CLI::Range(1, 100));
+  app.add_option(
+      "--vk-device", device,
+      "Vulkan device: index or name substring (default: OMNISWEEP_VK_DEVICE, else the best)");
+  app.add_flag("--json", json, "One JSON object per row instead of tables");
+  app.add_flag("--skip-fbs", skip_fbs, "Leave out the (slow) fast bilateral solver");
+  app.add_option("--sections", sections, "What to measure: stages, filters, codecs (default: all)")
+      ->check(CLI::IsMember({"stages", "filters", "codecs"}))
+      ->delimiter(',');
+  app.add_option("--kaist", kaist_dir,
+                 "kaist-rig dataset for the codec comparison (default ../shared/data/kaist-rig)");
+  CLI11_PARSE(app, argc, argv);
+
+  gpu::Context context(tools::context_options(device));
+  const auto& info = context.info();
+  if (!json) {
+    std::printf("device: %s (%s, Vulkan %s), maxStorageBufferRange %llu MiB\n\n", info.name.c_str(),
+                info.type.c_str(), info.api_version.c_str(),
+                static_cast<unsigned long long>(info.max_storage_buffer_range >> 20));
+  }
+
+  const auto want = [&](const char* section) {
+    return std::find(sections.begin(), sections.end(), section) != sections.end();
+  };
+  if (want("stages")) stage_section(context, resolutions, iterations, json);
+  if (want("filters")) filter_section(context, filter_resolution, iterations, skip_fbs, json);
+  if (want("codecs")) codec_section(context, kaist_dir, json);
   return 0;
 }
 

@@ -18,8 +18,8 @@ void DistanceParams::check() const {
   }
   if (levels < 2 || levels > 65535)
     throw CodecError("distance codec: levels must be within [2, 65535]");
-  if (downsample != 1 && downsample != 2)
-    throw CodecError("distance codec: downsample must be 1 or 2");
+  if (downsample != 1 && downsample != 2 && downsample != 4)
+    throw CodecError("distance codec: downsample must be 1, 2 or 4");
 }
 
 double DistanceParams::max_quantisation_error() const {

@@ -43,7 +43,7 @@ struct DistanceParams {
   // Quantisation levels over [1/d_max, 1/d_min] (2 .. 65535). 10000 keeps the error within
   // 1e-4 m^-1 over [0.55, 100] m (9.04e-5) without spending bits on the estimate's noise.
   std::uint32_t levels = 10000;
-  std::uint32_t downsample = 1;  // 1: full resolution, 2: half (the light setting)
+  std::uint32_t downsample = 1;  // stored at 1/downsample resolution per axis: 1, 2 or 4
 
   void check() const;  // throws CodecError naming the bad parameter
   // Largest inverse-distance error quantisation adds, m^-1 (half a level).
@@ -64,6 +64,13 @@ class DistanceCodec {
 struct ColorOptions {
   int quality = 90;
 };
+
+// The light setting, for links that cannot carry the default ~0.6-1.3 MB per 2048x1024 frame:
+// distance at a quarter of the resolution per axis (the mean inverse distance of 4x4 blocks)
+// over 2048 levels, colour at JPEG quality 60. About 170-225 KB per frame (docs/performance.md
+// has the sizes and the error it adds).
+inline constexpr DistanceParams kLightDistance{.levels = 2048, .downsample = 4};
+inline constexpr int kLightJpegQuality = 60;
 
 // CRC-32 (zlib's) of a payload. JPEG carries no checksum of its own, so every payload travels
 // with this one and receivers call verify_checksum before decoding: a flipped bit anywhere is
