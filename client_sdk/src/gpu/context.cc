@@ -243,6 +243,7 @@ void Context::track_allocation(std::int64_t bytes) {
 
 void Context::run_commands(
     const std::function<void(const vk::raii::CommandBuffer&)>& record) const {
+  const std::lock_guard lock(locks_->command_pool);
   vk::raii::CommandBuffers buffers(
       device_, vk::CommandBufferAllocateInfo(*command_pool_, vk::CommandBufferLevel::ePrimary, 1));
   const vk::raii::CommandBuffer& cmd = buffers[0];
@@ -251,10 +252,15 @@ void Context::run_commands(
   cmd.end();
   const vk::raii::Fence fence(device_, vk::FenceCreateInfo());
   const vk::CommandBuffer raw = *cmd;
-  queue_.submit(vk::SubmitInfo({}, {}, raw), *fence);
+  submit(raw, *fence);
   if (device_.waitForFences(*fence, VK_TRUE, UINT64_MAX) != vk::Result::eSuccess) {
     throw GpuError("waiting for the GPU failed");
   }
+}
+
+void Context::submit(vk::CommandBuffer commands, vk::Fence fence) const {
+  const std::lock_guard lock(locks_->queue);
+  queue_.submit(vk::SubmitInfo({}, {}, commands), fence);
 }
 
 }  // namespace omnisweep::gpu

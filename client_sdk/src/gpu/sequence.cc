@@ -11,9 +11,13 @@ Sequence::Sequence(const Context& context, std::uint32_t max_dispatches, std::ui
       vk::DescriptorPoolSize(vk::DescriptorType::eStorageImage, max_dispatches * 4)};
   pool_ = vk::raii::DescriptorPool(context.device(),
                                    vk::DescriptorPoolCreateInfo({}, max_dispatches, sizes));
+  command_pool_ = vk::raii::CommandPool(
+      context.device(),
+      vk::CommandPoolCreateInfo(vk::CommandPoolCreateFlagBits::eResetCommandBuffer,
+                                context.queue_family()));
   commands_ = vk::raii::CommandBuffers(
       context.device(),
-      vk::CommandBufferAllocateInfo(*context.command_pool(), vk::CommandBufferLevel::ePrimary, 1));
+      vk::CommandBufferAllocateInfo(*command_pool_, vk::CommandBufferLevel::ePrimary, 1));
   if (context.info().timestamps) {
     queries_ = vk::raii::QueryPool(
         context.device(), vk::QueryPoolCreateInfo({}, vk::QueryType::eTimestamp, 2 * max_stages));
@@ -163,7 +167,7 @@ void Sequence::submit_and_wait() {
   recording_ = false;
   context_->device().resetFences(*fence_);
   const vk::CommandBuffer raw = *cmd;
-  context_->queue().submit(vk::SubmitInfo({}, {}, raw), *fence_);
+  context_->submit(raw, *fence_);
   if (context_->device().waitForFences(*fence_, VK_TRUE, UINT64_MAX) != vk::Result::eSuccess) {
     throw GpuError("waiting for the GPU failed");
   }

@@ -77,18 +77,25 @@ class Context {
   std::uint64_t peak_allocated_bytes() const { return peak_allocated_; }
   void track_allocation(std::int64_t bytes);
 
-  // Records commands into a one-shot command buffer, submits and waits.
+  // Records commands into a one-shot command buffer, submits and waits. Thread-safe.
   void run_commands(const std::function<void(const vk::raii::CommandBuffer&)>& record) const;
-  const vk::raii::CommandPool& command_pool() const { return command_pool_; }
+  // Submits to the one queue; thread-safe (Vulkan wants queue access externally synchronised),
+  // so stages on different threads (the server's depth and stitch) can share a context.
+  void submit(vk::CommandBuffer commands, vk::Fence fence) const;
 
  private:
   struct Messages {
     std::mutex mutex;
     std::vector<std::string> list;
   };
+  struct Locks {
+    std::mutex queue;         // vkQueueSubmit
+    std::mutex command_pool;  // run_commands' pool (each Sequence has its own)
+  };
 
   bool validation_ = false;
   std::unique_ptr<Messages> messages_;
+  std::unique_ptr<Locks> locks_ = std::make_unique<Locks>();
   vk::raii::Context context_;
   vk::raii::Instance instance_{nullptr};
   vk::raii::DebugUtilsMessengerEXT messenger_{nullptr};

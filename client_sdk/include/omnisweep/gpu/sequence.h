@@ -73,6 +73,7 @@ class Sequence {
   const Context* context_;
   std::uint32_t max_stages_;
   vk::raii::DescriptorPool pool_{nullptr};
+  vk::raii::CommandPool command_pool_{nullptr};  // its own, so sequences record on any thread
   vk::raii::CommandBuffers commands_{nullptr};
   vk::raii::QueryPool queries_{nullptr};
   vk::raii::Fence fence_{nullptr};

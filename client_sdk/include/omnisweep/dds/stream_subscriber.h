@@ -1,0 +1,61 @@
+// Subscribes to one omnisweep stream (a server's three topics) and hands every message to
+// callbacks on Fast DDS's listener thread. The description (calibration) is TRANSIENT_LOCAL, so
+// a subscriber started after the server still receives it.
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+
+#include "omnisweep/dds/participant.h"
+#include "omnisweep_msgs.h"
+
+namespace eprosima::fastdds::dds {
+class DataReader;
+}  // namespace eprosima::fastdds::dds
+
+namespace omnisweep::dds {
+
+struct StreamCallbacks {
+  std::function<void(const msg::StreamDescription&)> description;
+  std::function<void(const msg::RgbdFrame&)> frame;
+  std::function<void(const msg::ServerStatus&)> status;
+};
+
+class StreamSubscriber {
+ public:
+  // `frame_profile`: "live" (best effort, newest frames; viewers) or "reliable" (every frame,
+  // retransmitted; recorders), or the name of a data_reader profile in the QoS file.
+  StreamSubscriber(const ParticipantOptions& options, const std::string& frame_profile,
+                   StreamCallbacks callbacks);
+  ~StreamSubscriber();
+  StreamSubscriber(const StreamSubscriber&) = delete;
+  StreamSubscriber& operator=(const StreamSubscriber&) = delete;
+
+  std::optional<msg::StreamDescription> description() const;
+  std::optional<msg::ServerStatus> status() const;
+  std::uint64_t frames_received() const { return frames_; }
+  // Frame writers (servers) currently matched.
+  int matched_servers() const { return matched_; }
+
+ private:
+  class Listener;
+  std::unique_ptr<Participant> participant_;
+  std::unique_ptr<Listener> listener_;
+  StreamCallbacks callbacks_;
+  mutable std::mutex mutex_;
+  std::optional<msg::StreamDescription> description_;
+  std::optional<msg::ServerStatus> status_;
+  std::atomic<std::uint64_t> frames_{0};
+  std::atomic<int> matched_{0};
+  eprosima::fastdds::dds::DataReader* readers_[3] = {nullptr, nullptr, nullptr};
+};
+
+// "live" -> "omnisweep_live", "reliable" -> "omnisweep_reliable"; other names unchanged.
+std::string frame_reader_profile(const std::string& name);
+
+}  // namespace omnisweep::dds

@@ -1,0 +1,130 @@
+#include "omnisweep/dds/participant.h"
+
+#include <fastdds/dds/domain/DomainParticipant.hpp>
+#include <fastdds/dds/domain/DomainParticipantFactory.hpp>
+#include <fastdds/dds/publisher/Publisher.hpp>
+#include <fastdds/dds/subscriber/Subscriber.hpp>
+#include <fastdds/dds/topic/Topic.hpp>
+#include <fastdds/dds/topic/TypeSupport.hpp>
+#include <filesystem>
+#include <mutex>
+#include <set>
+
+#include "omnisweep_msgsPubSubTypes.h"
+#include "qos_profiles.h"
+
+namespace omnisweep::dds {
+namespace fdds = eprosima::fastdds::dds;
+using ReturnCode_t = eprosima::fastrtps::types::ReturnCode_t;
+
+std::string topic_name(const std::string& prefix, TopicKind kind) {
+  switch (kind) {
+    case TopicKind::kDescription:
+      return prefix + "/description";
+    case TopicKind::kFrames:
+      return prefix + "/rgbd";
+    case TopicKind::kStatus:
+      return prefix + "/status";
+  }
+  throw DdsError("unknown topic kind");
+}
+
+void ParticipantOptions::check() const {
+  if (domain < 0 || domain > 232)
+    throw DdsError("domain id " + std::to_string(domain) + " is outside 0-232");
+  if (topic_prefix.empty() || topic_prefix.size() > 100)
+    throw DdsError("topic prefix must have 1-100 characters");
+  for (char c : topic_prefix) {
+    if (!std::isalnum(static_cast<unsigned char>(c)) && c != '_' && c != '-' && c != '/') {
+      throw DdsError("topic prefix \"" + topic_prefix + "\": character '" + std::string(1, c) +
+                     "' is not allowed (letters, digits, '_', '-', '/')");
+    }
+  }
+  if (topic_prefix.front() == '/' || topic_prefix.back() == '/' ||
+      topic_prefix.find("//") != std::string::npos) {
+    throw DdsError("topic prefix \"" + topic_prefix + "\": '/' only between words");
+  }
+  if (!qos_file.empty() && !std::filesystem::is_regular_file(qos_file))
+    throw DdsError("QoS profile file " + qos_file + " does not exist");
+}
+
+void load_qos_profiles(const std::string& qos_file) {
+  static std::mutex mutex;
+  static std::set<std::string> loaded;
+  const std::lock_guard lock(mutex);
+  const std::string key = qos_file.empty() ? "<embedded>" : qos_file;
+  if (loaded.count(key)) return;
+  auto* factory = fdds::DomainParticipantFactory::get_instance();
+  const ReturnCode_t result =
+      qos_file.empty() ? factory->load_XML_profiles_string(kEmbeddedQosProfiles,
+                                                           sizeof(kEmbeddedQosProfiles) - 1)
+                       : factory->load_XML_profiles_file(qos_file);
+  if (result != ReturnCode_t::RETCODE_OK) {
+    throw DdsError(qos_file.empty() ? "the embedded QoS profiles do not load"
+                                    : "QoS profile file " + qos_file +
+                                          " is not a valid Fast DDS XML profile file");
+  }
+  loaded.insert(key);
+}
+
+Participant::Participant(const ParticipantOptions& options) : options_(options) {
+  options_.check();
+  load_qos_profiles(options_.qos_file);
+  auto* factory = fdds::DomainParticipantFactory::get_instance();
+  fdds::DomainParticipantQos qos;
+  if (factory->get_participant_qos_from_profile("omnisweep_participant", qos) !=
+      ReturnCode_t::RETCODE_OK) {
+    throw DdsError("QoS profile \"omnisweep_participant\" is missing from " +
+                   (options_.qos_file.empty() ? std::string("the embedded profiles")
+                                              : options_.qos_file));
+  }
+  qos.name(options_.name);
+  participant_ = factory->create_participant(options_.domain, qos);
+  if (!participant_) {
+    throw DdsError("cannot create the DDS participant on domain " +
+                   std::to_string(options_.domain));
+  }
+  try {
+    const std::pair<TopicKind, fdds::TypeSupport> types[] = {
+        {TopicKind::kDescription, fdds::TypeSupport(new msg::StreamDescriptionPubSubType())},
+        {TopicKind::kFrames, fdds::TypeSupport(new msg::RgbdFramePubSubType())},
+        {TopicKind::kStatus, fdds::TypeSupport(new msg::ServerStatusPubSubType())}};
+    for (const auto& [kind, type] : types) {
+      if (type.register_type(participant_) != ReturnCode_t::RETCODE_OK)
+        throw DdsError("cannot register DDS type " + type.get_type_name());
+      const std::string name = topic_name(options_.topic_prefix, kind);
+      topics_[int(kind)] =
+          participant_->create_topic(name, type.get_type_name(), fdds::TOPIC_QOS_DEFAULT);
+      if (!topics_[int(kind)]) throw DdsError("cannot create DDS topic " + name);
+    }
+  } catch (...) {
+    participant_->delete_contained_entities();
+    factory->delete_participant(participant_);
+    throw;
+  }
+}
+
+Participant::~Participant() {
+  participant_->delete_contained_entities();
+  fdds::DomainParticipantFactory::get_instance()->delete_participant(participant_);
+}
+
+fdds::Topic& Participant::topic(TopicKind kind) const { return *topics_[int(kind)]; }
+
+fdds::Publisher& Participant::publisher() {
+  if (!publisher_) {
+    publisher_ = participant_->create_publisher(fdds::PUBLISHER_QOS_DEFAULT);
+    if (!publisher_) throw DdsError("cannot create the DDS publisher");
+  }
+  return *publisher_;
+}
+
+fdds::Subscriber& Participant::subscriber() {
+  if (!subscriber_) {
+    subscriber_ = participant_->create_subscriber(fdds::SUBSCRIBER_QOS_DEFAULT);
+    if (!subscriber_) throw DdsError("cannot create the DDS subscriber");
+  }
+  return *subscriber_;
+}
+
+}  // namespace omnisweep::dds

@@ -1,0 +1,119 @@
+#include "omnisweep/dds/stream_subscriber.h"
+
+#include <fastdds/dds/subscriber/DataReader.hpp>
+#include <fastdds/dds/subscriber/DataReaderListener.hpp>
+#include <fastdds/dds/subscriber/SampleInfo.hpp>
+#include <fastdds/dds/subscriber/Subscriber.hpp>
+#include <fastdds/dds/subscriber/qos/DataReaderQos.hpp>
+#include <fastdds/dds/topic/Topic.hpp>
+#include <fastdds/dds/topic/TopicDescription.hpp>
+
+namespace omnisweep::dds {
+namespace fdds = eprosima::fastdds::dds;
+using ReturnCode_t = eprosima::fastrtps::types::ReturnCode_t;
+
+std::string frame_reader_profile(const std::string& name) {
+  if (name == "live" || name == "reliable") return "omnisweep_" + name;
+  return name;
+}
+
+class StreamSubscriber::Listener final : public fdds::DataReaderListener {
+ public:
+  explicit Listener(StreamSubscriber& owner) : owner_(owner) {}
+
+  // By topic, not by pointer: Fast DDS may call before create_datareader has returned.
+  static TopicKind kind_of(fdds::DataReader* reader) {
+    const std::string name = reader->get_topicdescription()->get_name();
+    if (name.size() >= 5 && name.compare(name.size() - 5, 5, "/rgbd") == 0)
+      return TopicKind::kFrames;
+    if (name.size() >= 7 && name.compare(name.size() - 7, 7, "/status") == 0)
+      return TopicKind::kStatus;
+    return TopicKind::kDescription;
+  }
+
+  void on_data_available(fdds::DataReader* reader) override {
+    fdds::SampleInfo info;
+    const TopicKind kind = kind_of(reader);
+    if (kind == TopicKind::kFrames) {
+      while (reader->take_next_sample(&frame_, &info) == ReturnCode_t::RETCODE_OK) {
+        if (!info.valid_data) continue;
+        ++owner_.frames_;
+        if (owner_.callbacks_.frame) owner_.callbacks_.frame(frame_);
+      }
+    } else if (kind == TopicKind::kDescription) {
+      msg::StreamDescription description;
+      while (reader->take_next_sample(&description, &info) == ReturnCode_t::RETCODE_OK) {
+        if (!info.valid_data) continue;
+        {
+          const std::lock_guard lock(owner_.mutex_);
+          owner_.description_ = description;
+        }
+        if (owner_.callbacks_.description) owner_.callbacks_.description(description);
+      }
+    } else {
+      msg::ServerStatus status;
+      while (reader->take_next_sample(&status, &info) == ReturnCode_t::RETCODE_OK) {
+        if (!info.valid_data) continue;
+        {
+          const std::lock_guard lock(owner_.mutex_);
+          owner_.status_ = status;
+        }
+        if (owner_.callbacks_.status) owner_.callbacks_.status(status);
+      }
+    }
+  }
+
+  void on_subscription_matched(fdds::DataReader* reader,
+                               const fdds::SubscriptionMatchedStatus& status) override {
+    if (kind_of(reader) == TopicKind::kFrames) owner_.matched_ = status.current_count;
+  }
+
+ private:
+  StreamSubscriber& owner_;
+  msg::RgbdFrame frame_;  // reused: frames are large
+};
+
+StreamSubscriber::StreamSubscriber(const ParticipantOptions& options,
+                                   const std::string& frame_profile, StreamCallbacks callbacks)
+    : participant_(std::make_unique<Participant>(options)),
+      listener_(std::make_unique<Listener>(*this)),
+      callbacks_(std::move(callbacks)) {
+  fdds::Subscriber& subscriber = participant_->subscriber();
+  const std::pair<TopicKind, std::string> readers[] = {
+      {TopicKind::kDescription, "omnisweep_description"},
+      {TopicKind::kStatus, "omnisweep_status"},
+      {TopicKind::kFrames, frame_reader_profile(frame_profile)}};
+  for (const auto& [kind, profile] : readers) {
+    fdds::DataReaderQos qos;
+    if (subscriber.get_datareader_qos_from_profile(profile, qos) != ReturnCode_t::RETCODE_OK)
+      throw DdsError("no data_reader QoS profile \"" + profile + "\"");
+    readers_[int(kind)] = subscriber.create_datareader(&participant_->topic(kind), qos,
+                                                       listener_.get(), fdds::StatusMask::all());
+    if (!readers_[int(kind)]) {
+      throw DdsError("cannot create the DDS reader of " +
+                     topic_name(options.topic_prefix, kind) + " with profile " + profile);
+    }
+  }
+}
+
+StreamSubscriber::~StreamSubscriber() {
+  // Readers first, so no callback runs while the members it uses are destroyed.
+  for (auto* reader : readers_) {
+    if (reader) {
+      reader->set_listener(nullptr);
+      participant_->subscriber().delete_datareader(reader);
+    }
+  }
+}
+
+std::optional<msg::StreamDescription> StreamSubscriber::description() const {
+  const std::lock_guard lock(mutex_);
+  return description_;
+}
+
+std::optional<msg::ServerStatus> StreamSubscriber::status() const {
+  const std::lock_guard lock(mutex_);
+  return status_;
+}
+
+}  // namespace omnisweep::dds

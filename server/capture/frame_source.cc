@@ -1,0 +1,47 @@
+#include <chrono>
+
+#include "server/capture/sources.h"
+
+namespace omnisweep::capture {
+namespace {
+
+std::vector<std::string> split(const std::string& s, char separator) {
+  std::vector<std::string> out;
+  std::size_t start = 0;
+  while (true) {
+    const std::size_t end = s.find(separator, start);
+    out.push_back(s.substr(start, end - start));
+    if (end == std::string::npos) break;
+    start = end + 1;
+  }
+  return out;
+}
+
+}  // namespace
+
+std::uint64_t now_ns() {
+  return std::uint64_t(std::chrono::duration_cast<std::chrono::nanoseconds>(
+                           std::chrono::system_clock::now().time_since_epoch())
+                           .count());
+}
+
+std::unique_ptr<FrameSource> open_source(const std::string& spec, const SourceOptions& options) {
+  if (spec == "synthetic") return open_synthetic_source(options);
+  const std::size_t colon = spec.find(':');
+  const std::string kind = spec.substr(0, colon);
+  const std::string rest = colon == std::string::npos ? "" : spec.substr(colon + 1);
+  if (kind == "dataset" && !rest.empty()) return open_dataset_source(rest);
+  if ((kind == "video" || kind == "v4l2" || kind == "gst") && !rest.empty()) {
+    std::vector<std::string> entries = split(rest, kind == "gst" ? '|' : ',');
+    for (std::size_t i = 0; i < entries.size(); ++i) {
+      if (entries[i].empty())
+        throw SourceError("source \"" + spec + "\": camera " + std::to_string(i) + " is empty");
+    }
+    return open_video_source(kind, entries, options);
+  }
+  throw SourceError("unknown source \"" + spec +
+                    "\" (expected synthetic, dataset:DIR, video:F0,F1,..., "
+                    "v4l2:/dev/videoN,... or gst:PIPELINE|PIPELINE|...)");
+}
+
+}  // namespace omnisweep::capture

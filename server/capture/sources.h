@@ -1,0 +1,15 @@
+// The source implementations behind open_source.
+#pragma once
+
+#include "server/capture/frame_source.h"
+
+namespace omnisweep::capture {
+
+std::unique_ptr<FrameSource> open_synthetic_source(const SourceOptions& options);
+std::unique_ptr<FrameSource> open_dataset_source(const std::string& dir);
+// kind: "video", "v4l2" or "gst"; one OpenCV VideoCapture per entry.
+std::unique_ptr<FrameSource> open_video_source(const std::string& kind,
+                                               const std::vector<std::string>& entries,
+                                               const SourceOptions& options);
+
+}  // namespace omnisweep::capture

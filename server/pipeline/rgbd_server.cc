@@ -1,0 +1,400 @@
+#include "server/pipeline/rgbd_server.h"
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <stdexcept>
+
+#include "omnisweep/image/image_io.h"
+#include "omnisweep/wire/wire.h"
+#include "server/depth/depth_estimator.h"
+#include "server/depth/depth_inputs.h"
+#include "server/pipeline/bounded_queue.h"
+
+namespace omnisweep::pipeline {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double ms_since(Clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+
+msg::Vector3 to_vector(const Eigen::Vector3d& v) {
+  msg::Vector3 m;
+  m.x(v.x());
+  m.y(v.y());
+  m.z(v.z());
+  return m;
+}
+
+}  // namespace
+
+void ServerOptions::check() const {
+  if (!(fps > 0 && fps <= 1000)) throw std::invalid_argument("fps must be in (0, 1000]");
+  if (panorama_width < 8 || panorama_height < 4 || panorama_width != 2 * panorama_height)
+    throw std::invalid_argument("panorama resolution must be W x W/2 with W >= 8");
+  if (jpeg_quality < 1 || jpeg_quality > 100)
+    throw std::invalid_argument("JPEG quality must be 1-100");
+  distance.check();
+}
+
+// One frame on its way through the pipeline.
+struct RgbdServer::Job {
+  std::uint64_t sequence = 0;
+  std::vector<std::uint64_t> capture_time_ns;
+  std::uint64_t processing_start_ns = 0;
+  std::vector<Rgb8Image> images;  // full resolution
+  std::vector<FloatImage> distance;  // per reference, matching resolution
+  stitch::Panorama panorama;
+  msg::RgbdFrame message;
+};
+
+struct RgbdServer::Stages {
+  Rig matching_rig, colour_rig;
+  std::vector<std::optional<Gray8Image>> masks;
+  depth::DepthEstimator estimator;
+  stitch::Stitcher stitcher;
+  std::unique_ptr<codec::ColorCodec> color_codec;
+  std::unique_ptr<codec::DistanceCodec> distance_codec;
+  msg::StreamDescription description;
+  BoundedQueue<std::shared_ptr<Job>> to_depth{1}, to_stitch{1}, to_encode{2}, to_publish{2};
+
+  Stages(gpu::Context& context, const capture::FrameSource& source, const ServerOptions& o)
+      : matching_rig(source.rig().resized(o.depth.matching_width, o.depth.matching_height)),
+        colour_rig(o.rgb_resolution ? source.rig().resized(o.rgb_resolution->first,
+                                                           o.rgb_resolution->second)
+                                    : source.rig()),
+        masks(depth::matching_masks(source.masks(), o.depth)),
+        estimator(context, matching_rig, masks, o.depth),
+        stitcher(context, matching_rig, colour_rig, o.depth.references, masks,
+                 stitch::StitchOptions{.panorama_width = o.panorama_width,
+                                       .panorama_height = o.panorama_height,
+                                       .viewpoint = o.viewpoint,
+                                       .min_distance = o.depth.min_distance,
+                                       .max_distance = o.depth.max_distance}),
+        color_codec(codec::make_color_codec("jpeg", {.quality = o.jpeg_quality})),
+        distance_codec(codec::make_distance_codec("qinv16-zstd")) {}
+};
+
+RgbdServer::RgbdServer(std::unique_ptr<capture::FrameSource> source, gpu::Context& context,
+                       publish::StreamPublisher& publisher, const ServerOptions& options)
+    : source_(std::move(source)), context_(&context), publisher_(&publisher), options_(options) {
+  options_.check();
+  options_.depth.check(source_->rig().num_cameras());
+  options_.distance.min_distance = float(options_.depth.min_distance);
+  options_.distance.max_distance = float(options_.depth.max_distance);
+  options_.distance.check();
+  stages_ = std::make_unique<Stages>(context, *source_, options_);
+  msg::StreamDescription& d = stages_->description;
+  wire::add_rig(source_->rig(), &d);
+  d.revision(capture::now_ns());
+  d.references(std::vector<std::int32_t>(options_.depth.references.begin(),
+                                         options_.depth.references.end()));
+  d.panorama_width(std::uint32_t(options_.panorama_width));
+  d.panorama_height(std::uint32_t(options_.panorama_height));
+  d.viewpoint(to_vector(stages_->stitcher.viewpoint()));
+  d.color_codec(stages_->color_codec->name());
+  d.distance_codec(stages_->distance_codec->name());
+  d.distance_params(wire::to_message(options_.distance));
+  d.target_fps(float(options_.fps));
+  if (!options_.dump_dir.empty()) std::filesystem::create_directories(options_.dump_dir);
+}
+
+RgbdServer::~RgbdServer() {
+  request_stop();
+  for (auto& t : threads_)
+    if (t.joinable()) t.join();
+}
+
+void RgbdServer::start() {
+  publisher_->publish(stages_->description);
+  {
+    const std::lock_guard lock(stats_mutex_);
+    state_ = "running";
+  }
+  auto spawn = [&](void (RgbdServer::*loop)(), const char* stage,
+                   std::atomic<bool>* ended = nullptr) {
+    ++running_threads_;
+    threads_.emplace_back([this, loop, stage, ended] {
+      try {
+        (this->*loop)();
+      } catch (const std::exception& e) {
+        fail(stage, e.what());
+      }
+      if (ended) *ended = true;
+      {
+        const std::lock_guard lock(done_mutex_);
+        --running_threads_;
+      }
+      done_.notify_all();
+    });
+  };
+  spawn(&RgbdServer::capture_loop, "capture");
+  spawn(&RgbdServer::depth_loop, "depth");
+  spawn(&RgbdServer::stitch_loop, "stitch");
+  spawn(&RgbdServer::encode_loop, "encode");
+  spawn(&RgbdServer::publish_loop, "publish", &publish_ended_);
+  spawn(&RgbdServer::status_loop, "status", &status_ended_);
+}
+
+void RgbdServer::request_stop() {
+  stop_ = true;
+  stages_->to_depth.close();
+  stages_->to_stitch.close();
+  stages_->to_encode.close();
+  stages_->to_publish.close();
+  done_.notify_all();
+}
+
+bool RgbdServer::wait_stopped(double timeout_s) {
+  std::unique_lock lock(done_mutex_);
+  return done_.wait_for(lock, std::chrono::duration<double>(timeout_s),
+                        [&] { return running_threads_ == 0; });
+}
+
+std::string RgbdServer::error() const {
+  const std::lock_guard lock(stats_mutex_);
+  return error_;
+}
+
+void RgbdServer::fail(const std::string& stage, const std::string& what) {
+  {
+    const std::lock_guard lock(stats_mutex_);
+    if (error_.empty()) error_ = stage + ": " + what;
+    state_ = "failed";
+  }
+  finished_ = true;
+  request_stop();
+}
+
+void RgbdServer::add_stage_time(const std::string& stage, double ms) {
+  const std::lock_guard lock(stats_mutex_);
+  auto& [sum, count] = stage_window_[stage];
+  sum += ms;
+  ++count;
+}
+
+void RgbdServer::count_drop(const std::string& reason) {
+  const std::lock_guard lock(stats_mutex_);
+  ++drops_[reason];
+}
+
+void RgbdServer::capture_loop() {
+  const auto period = std::chrono::duration_cast<Clock::duration>(
+      std::chrono::duration<double>(1.0 / options_.fps));
+  auto next_tick = Clock::now();
+  std::uint64_t sequence = 0;
+  while (!stop_) {
+    std::this_thread::sleep_until(next_tick);
+    next_tick = std::max(next_tick + period, Clock::now());
+    const auto start = Clock::now();
+    std::optional<capture::CapturedFrame> frame;
+    try {
+      frame = source_->next();
+    } catch (const capture::SourceError& e) {
+      {
+        const std::lock_guard lock(stats_mutex_);
+        state_ = "source stalled";
+      }
+      std::fprintf(stderr, "omnisweep-server: source stalled: %s\n", e.what());
+      if (options_.exit_on_source_end) throw;
+      for (int i = 0; i < 10 && !stop_; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(100));
+      continue;
+    }
+    if (!frame) {
+      std::fprintf(stderr, "omnisweep-server: the source ended\n");
+      if (options_.exit_on_source_end) {
+        finished_ = true;
+        request_stop();
+        return;
+      }
+      const std::lock_guard lock(stats_mutex_);
+      state_ = "source ended";
+      continue;
+    }
+    add_stage_time("capture", ms_since(start));
+    {
+      const std::lock_guard lock(stats_mutex_);
+      ++captured_window_;
+      if (state_ == "source stalled") state_ = "running";
+    }
+    auto job = std::make_shared<Job>();
+    job->sequence = sequence++;
+    job->capture_time_ns = std::move(frame->capture_time_ns);
+    job->images = std::move(frame->images);
+    if (stages_->to_depth.push(std::move(job))) count_drop("depth busy");
+  }
+}
+
+void RgbdServer::depth_loop() {
+  while (auto job = stages_->to_depth.pop()) {
+    const auto start = Clock::now();
+    (*job)->processing_start_ns = capture::now_ns();
+    const auto images = depth::matching_images((*job)->images, options_.depth);
+    depth::DepthResult result = stages_->estimator.estimate(depth::pointers(images));
+    (*job)->distance = std::move(result.distance);
+    add_stage_time("depth", ms_since(start));
+    if (stages_->to_stitch.push(std::move(*job))) count_drop("stitch busy");
+  }
+}
+
+void RgbdServer::stitch_loop() {
+  while (auto item = stages_->to_stitch.pop()) {
+    Job& job = **item;
+    const auto start = Clock::now();
+    std::vector<const FloatImage*> distances;
+    std::vector<Rgb8Image> colour;
+    std::vector<const Rgb8Image*> colours;
+    for (std::size_t k = 0; k < options_.depth.references.size(); ++k) {
+      const int r = options_.depth.references[k];
+      const RigCamera& cam = stages_->colour_rig.cameras[r];
+      Rgb8Image& rgb = job.images[r];
+      colour.push_back(rgb.width() == cam.width && rgb.height() == cam.height
+                           ? std::move(rgb)
+                           : resize_area(rgb, cam.width, cam.height));
+      distances.push_back(&job.distance[k]);
+    }
+    for (const auto& c : colour) colours.push_back(&c);
+    job.panorama = stages_->stitcher.stitch(distances, colours);
+    job.images.clear();
+    job.distance.clear();
+    add_stage_time("stitch", ms_since(start));
+    if (stages_->to_encode.push(std::move(*item))) count_drop("encoder busy");
+  }
+}
+
+void RgbdServer::encode_loop() {
+  while (auto item = stages_->to_encode.pop()) {
+    Job& job = **item;
+    const auto start = Clock::now();
+    const codec::Bytes colour = stages_->color_codec->encode(job.panorama.rgb);
+    const codec::Bytes distance =
+        stages_->distance_codec->encode(job.panorama.distance, options_.distance);
+    msg::RgbdFrame& m = job.message;
+    m.sequence_number(job.sequence);
+    m.description_revision(stages_->description.revision());
+    m.capture_time_ns(job.capture_time_ns);
+    m.processing_start_ns(job.processing_start_ns);
+    m.processing_end_ns(capture::now_ns());
+    m.viewpoint(stages_->description.viewpoint());
+    m.width(std::uint32_t(job.panorama.rgb.width()));
+    m.height(std::uint32_t(job.panorama.rgb.height()));
+    m.color(wire::make_payload(stages_->color_codec->name(), colour));
+    m.distance(wire::make_payload(stages_->distance_codec->name(), distance));
+    m.distance_params(wire::to_message(options_.distance));
+    if (!options_.dump_dir.empty()) {
+      const std::filesystem::path base =
+          std::filesystem::path(options_.dump_dir) / std::to_string(job.sequence);
+      std::ofstream(base.string() + ".jpg", std::ios::binary)
+          .write(reinterpret_cast<const char*>(colour.data()), std::streamsize(colour.size()));
+      std::ofstream(base.string() + "_distance.f32", std::ios::binary)
+          .write(reinterpret_cast<const char*>(job.panorama.distance.data()),
+                 std::streamsize(job.panorama.distance.size() * sizeof(float)));
+    }
+    job.panorama = {};
+    add_stage_time("encode", ms_since(start));
+    if (stages_->to_publish.push(std::move(*item))) count_drop("network busy");
+  }
+}
+
+void RgbdServer::publish_loop() {
+  while (auto item = stages_->to_publish.pop()) {
+    const auto start = Clock::now();
+    (*item)->message.publish_time_ns(capture::now_ns());
+    publisher_->publish((*item)->message);
+    add_stage_time("publish", ms_since(start));
+    {
+      const std::lock_guard lock(stats_mutex_);
+      ++published_window_;
+    }
+    if (++published_ == options_.max_frames && options_.max_frames > 0) {
+      finished_ = true;
+      done_.notify_all();
+    }
+  }
+}
+
+msg::ServerStatus RgbdServer::make_status() {
+  static const char* const kStages[] = {"capture", "depth", "stitch", "encode", "publish"};
+  msg::ServerStatus s;
+  s.time_ns(capture::now_ns());
+  s.matched_subscribers(publisher_->frame_subscribers());
+  const std::lock_guard lock(stats_mutex_);
+  s.state(stop_ ? "stopping" : state_);
+  s.fps_in(float(captured_window_));
+  s.fps_out(float(published_window_));
+  captured_window_ = published_window_ = 0;
+  std::vector<msg::StageTime> stages;
+  for (const char* name : kStages) {
+    msg::StageTime t;
+    t.stage(name);
+    const auto it = stage_window_.find(name);
+    t.ms(it == stage_window_.end() ? 0.0f : float(it->second.first / it->second.second));
+    stages.push_back(t);
+  }
+  stage_window_.clear();
+  s.stage_ms(stages);
+  std::vector<msg::DropCount> dropped;
+  for (const auto& [reason, count] : drops_) {
+    msg::DropCount d;
+    d.reason(reason);
+    d.count(count);
+    dropped.push_back(d);
+  }
+  s.dropped(dropped);
+  return s;
+}
+
+void RgbdServer::status_loop() {
+  auto next = Clock::now();
+  std::vector<std::uint64_t> frames_before;
+  double since_log = 0;
+  while (!stop_) {
+    next += std::chrono::seconds(1);
+    {
+      std::unique_lock lock(done_mutex_);
+      done_.wait_until(lock, next, [&] { return bool(stop_); });
+    }
+    if (stop_) break;
+    msg::ServerStatus status = make_status();
+    // Camera fps over the last second, from the source's frame counters.
+    const auto health = source_->camera_status();
+    std::vector<msg::CameraHealth> cameras;
+    for (std::size_t i = 0; i < health.size(); ++i) {
+      msg::CameraHealth h;
+      h.camera(std::int32_t(i));
+      h.delivering(health[i].delivering);
+      h.last_frame_ns(health[i].last_frame_ns);
+      h.message(health[i].message);
+      h.fps(frames_before.size() == health.size() ? float(health[i].frames - frames_before[i])
+                                                  : 0.0f);
+      cameras.push_back(h);
+    }
+    frames_before.clear();
+    for (const auto& h : health) frames_before.push_back(h.frames);
+    status.cameras(cameras);
+    publisher_->publish(status);
+    since_log += 1.0;
+    if (options_.log_interval_s > 0 && since_log >= options_.log_interval_s) {
+      since_log = 0;
+      std::string stages;
+      for (const auto& t : status.stage_ms()) {
+        char buf[64];
+        std::snprintf(buf, sizeof buf, " %s %.0f", t.stage().c_str(), t.ms());
+        stages += buf;
+      }
+      std::uint64_t drops = 0;
+      for (const auto& d : status.dropped()) drops += d.count();
+      std::fprintf(stderr,
+                   "omnisweep-server: %s, %.0f fps in, %.0f fps out, ms:%s, %llu dropped, %d "
+                   "subscribers, %llu published\n",
+                   status.state().c_str(), status.fps_in(), status.fps_out(), stages.c_str(),
+                   static_cast<unsigned long long>(drops), status.matched_subscribers(),
+                   static_cast<unsigned long long>(published_.load()));
+    }
+  }
+}
+
+}  // namespace omnisweep::pipeline

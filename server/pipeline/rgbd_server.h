@@ -1,0 +1,101 @@
+// The server's pipeline: capture -> depth -> stitch -> encode -> publish, each stage on its
+// own thread, joined by bounded queues that drop the oldest frame (counted, by reason) when the
+// next stage is busy, so latency does not grow when compute is slower than the cameras. Depth
+// and stitch share one GPU context. A status thread publishes ServerStatus once a second.
+#pragma once
+
+#include <atomic>
+#include <condition_variable>
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "omnisweep/codec/codec.h"
+#include "omnisweep/gpu/context.h"
+#include "server/capture/frame_source.h"
+#include "server/depth/depth_options.h"
+#include "server/publish/stream_publisher.h"
+#include "server/stitch/stitcher.h"
+
+namespace omnisweep::pipeline {
+
+struct ServerOptions {
+  depth::DepthOptions depth;
+  int panorama_width = 2048;
+  int panorama_height = 1024;
+  std::optional<Eigen::Vector3d> viewpoint;  // rig frame; default: mean of the references
+  std::optional<std::pair<int, int>> rgb_resolution;  // colour sampling size; default: images'
+  double fps = 30.0;                                  // capture cap, frames per second
+  int jpeg_quality = 90;
+  codec::DistanceParams distance;  // min/max distance are taken from `depth`
+  std::uint64_t max_frames = 0;    // stop after publishing this many (0: until stopped)
+  std::string dump_dir;  // when set: <seq>.jpg and <seq>_distance.f32 of every published frame
+  bool exit_on_source_end = false;  // else a stalled or ended source is reported and retried
+  double log_interval_s = 10.0;     // a status line on stderr this often (0: never)
+
+  void check() const;  // throws std::invalid_argument naming the bad option
+};
+
+class RgbdServer {
+ public:
+  RgbdServer(std::unique_ptr<capture::FrameSource> source, gpu::Context& context,
+             publish::StreamPublisher& publisher, const ServerOptions& options);
+  ~RgbdServer();  // stops and joins
+  RgbdServer(const RgbdServer&) = delete;
+  RgbdServer& operator=(const RgbdServer&) = delete;
+
+  void start();
+  void request_stop();
+  // Waits until every stage thread has ended or `timeout_s` passed; true when all ended.
+  bool wait_stopped(double timeout_s);
+  // True once max_frames were published, a stage failed, or the source ended (when configured).
+  bool finished() const { return finished_; }
+  // The error that ended the server, if any.
+  std::string error() const;
+  std::uint64_t frames_published() const { return published_; }
+  // True once the threads that use the publisher (publish, status) have ended.
+  bool publisher_released() const { return publish_ended_ && status_ended_; }
+
+ private:
+  struct Job;
+  void capture_loop();
+  void depth_loop();
+  void stitch_loop();
+  void encode_loop();
+  void publish_loop();
+  void status_loop();
+  void fail(const std::string& stage, const std::string& what);
+  void add_stage_time(const std::string& stage, double ms);
+  void count_drop(const std::string& reason);
+  msg::ServerStatus make_status();
+
+  std::unique_ptr<capture::FrameSource> source_;
+  gpu::Context* context_;
+  publish::StreamPublisher* publisher_;
+  ServerOptions options_;
+  struct Stages;
+  std::unique_ptr<Stages> stages_;
+
+  std::atomic<bool> stop_{false};
+  std::atomic<bool> finished_{false};
+  std::atomic<std::uint64_t> published_{0};
+  std::vector<std::thread> threads_;
+  std::atomic<int> running_threads_{0};
+  std::atomic<bool> publish_ended_{false}, status_ended_{false};
+  std::mutex done_mutex_;
+  std::condition_variable done_;
+
+  mutable std::mutex stats_mutex_;
+  std::map<std::string, std::pair<double, int>> stage_window_;  // sum ms, count this second
+  std::map<std::string, std::uint64_t> drops_;
+  std::uint64_t captured_window_ = 0, published_window_ = 0;
+  std::string state_ = "starting";
+  std::string error_;
+};
+
+}  // namespace omnisweep::pipeline

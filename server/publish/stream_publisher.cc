@@ -1,0 +1,76 @@
+#include "server/publish/stream_publisher.h"
+
+#include <fastdds/dds/publisher/DataWriter.hpp>
+#include <fastdds/dds/publisher/DataWriterListener.hpp>
+#include <fastdds/dds/publisher/Publisher.hpp>
+#include <fastdds/dds/publisher/qos/DataWriterQos.hpp>
+#include <fastdds/dds/topic/Topic.hpp>
+
+namespace omnisweep::publish {
+namespace fdds = eprosima::fastdds::dds;
+using ReturnCode_t = eprosima::fastrtps::types::ReturnCode_t;
+
+class StreamPublisher::Listener final : public fdds::DataWriterListener {
+ public:
+  explicit Listener(StreamPublisher& owner) : owner_(owner) {}
+  void on_publication_matched(fdds::DataWriter* writer,
+                              const fdds::PublicationMatchedStatus& status) override {
+    // By topic, not by pointer: Fast DDS may call before create_datawriter has returned.
+    const std::string name = writer->get_topic()->get_name();
+    if (name.size() >= 5 && name.compare(name.size() - 5, 5, "/rgbd") == 0)
+      owner_.matched_ = status.current_count;
+  }
+
+ private:
+  StreamPublisher& owner_;
+};
+
+StreamPublisher::StreamPublisher(const dds::ParticipantOptions& options,
+                                 const std::string& frame_profile)
+    : participant_(std::make_unique<dds::Participant>(options)),
+      listener_(std::make_unique<Listener>(*this)) {
+  fdds::Publisher& publisher = participant_->publisher();
+  const std::pair<dds::TopicKind, std::string> writers[] = {
+      {dds::TopicKind::kDescription, "omnisweep_description"},
+      {dds::TopicKind::kFrames, frame_profile},
+      {dds::TopicKind::kStatus, "omnisweep_status"}};
+  for (const auto& [kind, profile] : writers) {
+    fdds::DataWriterQos qos;
+    if (publisher.get_datawriter_qos_from_profile(profile, qos) != ReturnCode_t::RETCODE_OK)
+      throw dds::DdsError("no data_writer QoS profile \"" + profile + "\"");
+    writers_[int(kind)] =
+        publisher.create_datawriter(&participant_->topic(kind), qos, listener_.get(),
+                                    fdds::StatusMask::publication_matched());
+    if (!writers_[int(kind)]) {
+      throw dds::DdsError("cannot create the DDS writer of " +
+                          dds::topic_name(options.topic_prefix, kind) + " with profile " + profile);
+    }
+  }
+}
+
+StreamPublisher::~StreamPublisher() {
+  for (auto* writer : writers_) {
+    if (writer) {
+      writer->set_listener(nullptr);
+      participant_->publisher().delete_datawriter(writer);
+    }
+  }
+}
+
+void StreamPublisher::publish(const msg::StreamDescription& description) {
+  auto copy = description;
+  if (!writers_[int(dds::TopicKind::kDescription)]->write(&copy))
+    throw dds::DdsError("writing the stream description failed");
+}
+
+void StreamPublisher::publish(msg::RgbdFrame& frame) {
+  if (!writers_[int(dds::TopicKind::kFrames)]->write(&frame))
+    throw dds::DdsError("writing frame " + std::to_string(frame.sequence_number()) + " failed");
+}
+
+void StreamPublisher::publish(msg::ServerStatus& status) {
+  if (!writers_[int(dds::TopicKind::kStatus)]->write(&status))
+    throw dds::DdsError("writing the server status failed");
+}
+
+}  // namespace omnisweep::publish

@@ -1,0 +1,43 @@
+// The server's DDS endpoint: one writer per topic of the stream (docs/wire-format.md), QoS from
+// the XML profiles (deploy/qos/omnisweep_qos.xml).
+#pragma once
+
+#include <atomic>
+#include <memory>
+#include <string>
+
+#include "omnisweep/dds/participant.h"
+#include "omnisweep_msgs.h"
+
+namespace eprosima::fastdds::dds {
+class DataWriter;
+}  // namespace eprosima::fastdds::dds
+
+namespace omnisweep::publish {
+
+class StreamPublisher {
+ public:
+  // `frame_profile`: the data_writer profile of the frame topic.
+  explicit StreamPublisher(const dds::ParticipantOptions& options,
+                           const std::string& frame_profile = "omnisweep_frames");
+  ~StreamPublisher();
+  StreamPublisher(const StreamPublisher&) = delete;
+  StreamPublisher& operator=(const StreamPublisher&) = delete;
+
+  // Each throws dds::DdsError when Fast DDS refuses the sample.
+  void publish(const msg::StreamDescription& description);
+  void publish(msg::RgbdFrame& frame);
+  void publish(msg::ServerStatus& status);
+
+  // Readers matched on the frame topic.
+  int frame_subscribers() const { return matched_; }
+
+ private:
+  class Listener;
+  std::unique_ptr<dds::Participant> participant_;
+  std::unique_ptr<Listener> listener_;
+  std::atomic<int> matched_{0};
+  eprosima::fastdds::dds::DataWriter* writers_[3] = {nullptr, nullptr, nullptr};
+};
+
+}  // namespace omnisweep::publish

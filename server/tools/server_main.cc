@@ -1,0 +1,147 @@
+// omnisweep-server: capture, estimate distance, stitch, compress and publish 360-degree RGB-D
+// panoramas over DDS (docs/deploy.md, docs/wire-format.md). Runs until SIGINT / SIGTERM (or
+// --frames N), and stops within a second.
+#include <CLI/CLI.hpp>
+#include <csignal>
+#include <cstdio>
+#include <ctime>
+
+#include "server/capture/frame_source.h"
+#include "server/pipeline/rgbd_server.h"
+#include "server/publish/stream_publisher.h"
+#include "server/tools/depth_flags.h"
+#include "server/tools/tool_main.h"
+
+namespace {
+
+using namespace omnisweep;
+
+int run(int argc, char** argv) {
+  CLI::App app{
+      "Capture, estimate distance, stitch and publish 360-degree RGB-D panoramas over DDS "
+      "(Fast DDS). Stops on SIGINT / SIGTERM."};
+  app.set_config("--config", "", "Read options from a TOML/INI file (keys are the long flags)");
+  std::string source_spec = "synthetic", device, frame_profile = "omnisweep_frames";
+  capture::SourceOptions source_options;
+  pipeline::ServerOptions options;
+  dds::ParticipantOptions dds_options;
+  dds_options.name = "omnisweep-server";
+  std::vector<int> panorama = {options.panorama_width, options.panorama_height}, rgb_resolution;
+  std::vector<double> viewpoint;
+  bool light = false;
+  app.add_option("--source", source_spec,
+                 "synthetic (default), dataset:DIR, video:F0,F1,..., v4l2:/dev/videoN,... or "
+                 "gst:PIPELINE|PIPELINE|...");
+  app.add_option("--calibration", source_options.calibration,
+                 "basalt calibration JSON (needed by video, v4l2 and gst sources)");
+  app.add_option("--synthetic-poses", source_options.synthetic_poses,
+                 "Distinct frames of the synthetic source (rendered once, then looped)")
+      ->check(CLI::Range(1, 300));
+  app.add_option("--camera-timeout", source_options.camera_timeout_s,
+                 "Seconds without an image before a camera counts as not delivering")
+      ->check(CLI::Range(0.1, 3600.0));
+  app.add_flag("--exit-on-source-end", options.exit_on_source_end,
+               "Exit (code 1) when the source stalls or ends, instead of reporting and retrying");
+  app.add_option("--fps", options.fps, "Capture rate cap, frames per second")
+      ->check(CLI::Range(0.01, 1000.0));
+  app.add_option("--panorama-resolution", panorama, "Panorama width and height (2:1)")
+      ->expected(2)
+      ->check(CLI::Range(8, 16384));
+  app.add_option("--rgb-resolution", rgb_resolution,
+                 "Width and height colour is sampled at (default: the images')")
+      ->expected(2)
+      ->check(CLI::Range(8, 16384));
+  app.add_option("--viewpoint", viewpoint,
+                 "Panorama centre x y z in the rig frame, metres (default: mean of the references)")
+      ->expected(3);
+  app.add_option("--jpeg-quality", options.jpeg_quality, "Colour JPEG quality")
+      ->check(CLI::Range(1, 100));
+  app.add_option("--distance-levels", options.distance.levels,
+                 "Quantisation levels of inverse distance (default 10000: error <= 9.04e-5 m^-1)")
+      ->check(CLI::Range(2, 65535));
+  app.add_option("--distance-downsample", options.distance.downsample,
+                 "Send distance at 1/N resolution per axis (1, 2 or 4)")
+      ->check(CLI::IsMember({1, 2, 4}));
+  app.add_flag("--light", light,
+               "Light setting for slow links: distance at 1/4 resolution over 2048 levels, JPEG "
+               "quality 60 (about 170-225 KB per 2048x1024 frame)");
+  tools::add_depth_flags(app, options.depth, device);
+  app.add_option("--domain", dds_options.domain, "DDS domain id")->check(CLI::Range(0, 232));
+  app.add_option("--topic-prefix", dds_options.topic_prefix,
+                 "Topics are <prefix>/description, <prefix>/rgbd, <prefix>/status");
+  app.add_option("--qos", dds_options.qos_file,
+                 "Fast DDS XML profile file (default: deploy/qos/omnisweep_qos.xml, built in)")
+      ->check(CLI::ExistingFile);
+  app.add_option("--frame-profile", frame_profile,
+                 "data_writer profile of the frame topic (default omnisweep_frames)");
+  app.add_option("--frames", options.max_frames, "Stop after publishing N frames (0: run on)");
+  app.add_option("--dump", options.dump_dir,
+                 "Write <seq>.jpg and <seq>_distance.f32 (float32 metres) of every frame here");
+  app.add_option("--log-interval", options.log_interval_s,
+                 "Seconds between status lines on stderr (0: none)")
+      ->check(CLI::Range(0.0, 86400.0));
+  CLI11_PARSE(app, argc, argv);
+  options.panorama_width = panorama[0];
+  options.panorama_height = panorama[1];
+  if (!rgb_resolution.empty()) options.rgb_resolution = {rgb_resolution[0], rgb_resolution[1]};
+  if (!viewpoint.empty()) options.viewpoint = Eigen::Vector3d(viewpoint[0], viewpoint[1], viewpoint[2]);
+  if (light) {
+    options.distance.levels = codec::kLightDistance.levels;
+    options.distance.downsample = codec::kLightDistance.downsample;
+    options.jpeg_quality = codec::kLightJpegQuality;
+  }
+
+  // SIGINT and SIGTERM are taken by sigtimedwait below; block them before any thread starts
+  // (Fast DDS, the GPU driver, the stages), so every thread inherits the mask.
+  sigset_t signals;
+  sigemptyset(&signals);
+  sigaddset(&signals, SIGINT);
+  sigaddset(&signals, SIGTERM);
+  pthread_sigmask(SIG_BLOCK, &signals, nullptr);
+
+  auto source = capture::open_source(source_spec, source_options);
+  std::fprintf(stderr, "omnisweep-server: source: %s\n", source->description().c_str());
+  gpu::Context context(tools::context_options(device));
+  auto publisher = std::make_unique<publish::StreamPublisher>(dds_options, frame_profile);
+  auto server =
+      std::make_unique<pipeline::RgbdServer>(std::move(source), context, *publisher, options);
+  std::fprintf(stderr,
+               "omnisweep-server: device %s; publishing %dx%d panoramas on domain %d, topics "
+               "%s/{description,rgbd,status}\n",
+               context.info().name.c_str(), options.panorama_width, options.panorama_height,
+               dds_options.domain, dds_options.topic_prefix.c_str());
+  server->start();
+
+  int signal = 0;
+  const timespec step{0, 50'000'000};
+  while (!server->finished()) {
+    signal = sigtimedwait(&signals, nullptr, &step);
+    if (signal == SIGINT || signal == SIGTERM) break;
+  }
+  if (signal == SIGINT || signal == SIGTERM)
+    std::fprintf(stderr, "omnisweep-server: %s, stopping\n", strsignal(signal));
+  server->request_stop();
+  const std::string error = server->error();
+  const int code = error.empty() ? 0 : 1;
+  if (!error.empty()) std::fprintf(stderr, "omnisweep-server: %s\n", error.c_str());
+  std::fprintf(stderr, "omnisweep-server: %llu frames published\n",
+               static_cast<unsigned long long>(server->frames_published()));
+  if (!server->wait_stopped(0.7)) {
+    // A stage is inside a long GPU submission (seconds per frame on a CPU Vulkan driver), which
+    // cannot be interrupted. Leave the DDS domain properly, then exit without waiting for it:
+    // the operating system reclaims the device.
+    if (server->publisher_released()) publisher.reset();
+    std::fprintf(stderr, "omnisweep-server: a stage is still busy on the GPU; exiting now\n");
+    std::fflush(stderr);
+    std::_Exit(code);
+  }
+  server.reset();
+  publisher.reset();
+  return code;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  return omnisweep::tools::run_tool("omnisweep-server", argc, argv, run);
+}
