@@ -63,6 +63,7 @@ int run(int argc, char** argv) {
   std::signal(SIGINT, on_signal);
   std::signal(SIGTERM, on_signal);
 
+  const auto start = std::chrono::steady_clock::now();
   Window window;
   std::atomic<std::uint64_t> decoded{0}, statuses{0};
   std::atomic<bool> described{false};
@@ -117,8 +118,9 @@ int run(int argc, char** argv) {
   callbacks.status = [&](const msg::ServerStatus& s) {
     ++statuses;
     if (quiet) return;
-    std::printf("status: %s, %.1f fps in, %.1f fps out, %d subscribers, ms:", s.state().c_str(),
-                s.fps_in(), s.fps_out(), s.matched_subscribers());
+    std::printf("status at %.3f s: %s, %.1f fps in, %.1f fps out, %d subscribers, ms:",
+                std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(),
+                s.state().c_str(), s.fps_in(), s.fps_out(), s.matched_subscribers());
     for (const auto& t : s.stage_ms()) std::printf(" %s %.1f", t.stage().c_str(), t.ms());
     for (const auto& d : s.dropped())
       std::printf(", dropped (%s) %llu", d.reason().c_str(),
@@ -128,7 +130,6 @@ int run(int argc, char** argv) {
   };
   dds::StreamSubscriber subscriber(options, profile, std::move(callbacks));
 
-  const auto start = std::chrono::steady_clock::now();
   auto next_report = start + std::chrono::seconds(1);
   std::vector<double> all_latency;
   std::uint64_t total_bytes = 0, total_lost = 0;

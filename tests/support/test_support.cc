@@ -1,15 +1,21 @@
 #include "tests/support/test_support.h"
 
+#include <signal.h>
+#include <spawn.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <array>
+#include <chrono>
+#include <thread>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
 #include <random>
 #include <sstream>
 #include <stdexcept>
+
+extern char** environ;
 
 namespace omnisweep::testing {
 namespace fs = std::filesystem;
@@ -65,6 +71,53 @@ int run_command(const std::string& command, std::string* output) {
     output->append(buffer.data(), n);
   const int status = ::pclose(pipe);
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+BackgroundProcess::BackgroundProcess(const std::string& command,
+                                     const std::filesystem::path& log)
+    : log_(log) {
+  const std::string shell = "exec " + command + " > '" + log.string() + "' 2>&1";
+  const char* argv[] = {"/bin/sh", "-c", shell.c_str(), nullptr};
+  if (posix_spawn(&pid_, "/bin/sh", nullptr, nullptr, const_cast<char* const*>(argv), environ) !=
+      0) {
+    pid_ = -1;
+    exited_ = true;
+  }
+}
+
+BackgroundProcess::~BackgroundProcess() {
+  if (!exited_ && pid_ > 0) {
+    ::kill(pid_, SIGKILL);
+    ::waitpid(pid_, &status_, 0);
+  }
+}
+
+bool BackgroundProcess::running() {
+  if (exited_) return false;
+  if (::waitpid(pid_, &status_, WNOHANG) == pid_) exited_ = true;
+  return !exited_;
+}
+
+int BackgroundProcess::stop(int signal, double timeout_s, double* seconds) {
+  const auto start = std::chrono::steady_clock::now();
+  if (running()) ::kill(pid_, signal);
+  while (!exited_) {
+    if (::waitpid(pid_, &status_, WNOHANG) == pid_) {
+      exited_ = true;
+      break;
+    }
+    if (std::chrono::steady_clock::now() - start > std::chrono::duration<double>(timeout_s)) break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  if (seconds)
+    *seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  if (!exited_) return -1;
+  return WIFEXITED(status_) ? WEXITSTATUS(status_) : -2;
+}
+
+std::string BackgroundProcess::log() const {
+  std::ifstream in(log_);
+  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
 }
 
 }  // namespace omnisweep::testing

@@ -29,4 +29,26 @@ class ScratchDir {
 // Runs a shell command, returns its exit status and fills *output with stdout+stderr.
 int run_command(const std::string& command, std::string* output);
 
+// A program running in the background (a server), its stdout+stderr going to `log`. The
+// destructor kills it (SIGKILL) if it still runs, so no test leaves a process behind.
+class BackgroundProcess {
+ public:
+  BackgroundProcess(const std::string& command, const std::filesystem::path& log);
+  ~BackgroundProcess();
+  BackgroundProcess(const BackgroundProcess&) = delete;
+  BackgroundProcess& operator=(const BackgroundProcess&) = delete;
+
+  bool running();
+  // Sends `signal` and waits up to `timeout_s`; returns the exit code (-1: did not exit,
+  // -2: killed by a signal) and the seconds it took in *seconds.
+  int stop(int signal, double timeout_s, double* seconds);
+  std::string log() const;
+
+ private:
+  int pid_ = -1;
+  int status_ = 0;
+  bool exited_ = false;
+  std::filesystem::path log_;
+};
+
 }  // namespace omnisweep::testing

@@ -1,0 +1,188 @@
+// omnisweep-server and omnisweep-subscribe as users run them, on loopback: frames arrive and
+// equal what the server computed, a late subscriber gets the calibration, status comes once a
+// second, SIGTERM ends the server within a second with exit code 0, and bad input is refused.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <csignal>
+#include <filesystem>
+#include <fstream>
+#include <regex>
+#include <thread>
+
+#include "omnisweep/codec/codec.h"
+#include "server/synthetic/synthetic_dataset.h"
+#include "tests/support/test_support.h"
+
+namespace omnisweep {
+namespace {
+
+namespace fs = std::filesystem;
+using testing::BackgroundProcess;
+using testing::run_command;
+using testing::ScratchDir;
+
+const std::string kSmall =
+    " --matching-resolution 128 128 --panorama-resolution 256 128 --candidates 16 --fps 5"
+    " --log-interval 0";
+
+// A small synthetic dataset (3 frames of 160x160 fisheyes), a topic prefix and a DDS domain of
+// this process's own, so tests running side by side never see each other's streams.
+class ServerTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    synthetic::SyntheticRigOptions options;
+    options.image_size = 160;
+    const synthetic::SyntheticRig rig(options);
+    synthetic::write_synthetic_dataset(rig, dir_.path() / "data",
+                                       {.first_frame = 0, .num_frames = 3, .panorama_width = 64,
+                                        .panorama_height = 32});
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    network_ = " --domain " + std::to_string(1 + getpid() % 200) + " --topic-prefix test" +
+               std::to_string(getpid()) + "/" + info->name();
+  }
+
+  std::string server_command(const std::string& extra = "") const {
+    return (testing::bin_dir() / "omnisweep-server").string() + " --source dataset:" +
+           (dir_.path() / "data").string() + kSmall + network_ + extra;
+  }
+  std::string subscribe_command(const std::string& extra) const {
+    return (testing::bin_dir() / "omnisweep-subscribe").string() + network_ + extra;
+  }
+
+  ScratchDir dir_;
+  std::string network_;
+};
+
+std::vector<float> read_floats(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::vector<float> v(fs::file_size(path) / sizeof(float));
+  in.read(reinterpret_cast<char*>(v.data()), std::streamsize(v.size() * sizeof(float)));
+  return v;
+}
+
+std::string read_bytes(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+TEST_F(ServerTest, FramesArriveDecodedAndEqualWhatTheServerComputed) {
+  BackgroundProcess server(server_command(" --dump " + (dir_.path() / "server").string()),
+                           dir_.path() / "server.log");
+  std::string out;
+  ASSERT_EQ(run_command(subscribe_command(" --profile reliable --frames 8 --timeout 60 --dump " +
+                                          (dir_.path() / "client").string()),
+                        &out),
+            0)
+      << out << server.log();
+  EXPECT_NE(out.find("summary: 8 frames decoded"), std::string::npos) << out;
+  const double bound = codec::DistanceParams{}.max_quantisation_error();
+  int compared = 0;
+  for (const auto& entry : fs::directory_iterator(dir_.path() / "client")) {
+    const std::string name = entry.path().filename().string();
+    if (entry.path().extension() != ".jpg") continue;
+    const fs::path server_jpeg = dir_.path() / "server" / name;
+    ASSERT_TRUE(fs::exists(server_jpeg)) << name;
+    EXPECT_EQ(read_bytes(entry.path()), read_bytes(server_jpeg)) << "JPEG bytes differ: " << name;
+    const std::string stem = entry.path().stem().string();
+    const auto got = read_floats(dir_.path() / "client" / (stem + "_distance.f32"));
+    const auto want = read_floats(dir_.path() / "server" / (stem + "_distance.f32"));
+    ASSERT_EQ(got.size(), std::size_t(256 * 128));
+    ASSERT_EQ(got.size(), want.size());
+    double worst = 0;
+    int valid = 0;
+    for (std::size_t i = 0; i < got.size(); ++i) {
+      if (!(want[i] > 0)) {
+        EXPECT_EQ(got[i], 0.0f);
+        continue;
+      }
+      ++valid;
+      // The panorama's distances lie within [0.55, 100] m (the sweep's range).
+      worst = std::max(worst, std::abs(1.0 / got[i] - 1.0 / want[i]));
+    }
+    EXPECT_GT(valid, int(got.size() / 2));
+    EXPECT_LE(worst, bound * 1.01 + 1e-7) << name;
+    ++compared;
+  }
+  EXPECT_EQ(compared, 8);
+  double seconds = 0;
+  EXPECT_EQ(server.stop(SIGTERM, 5, &seconds), 0) << server.log();
+}
+
+TEST_F(ServerTest, LateSubscriberReceivesTheCalibration) {
+  BackgroundProcess server(server_command(), dir_.path() / "server.log");
+  std::this_thread::sleep_for(std::chrono::seconds(3));  // the server has been publishing a while
+  ASSERT_TRUE(server.running()) << server.log();
+  std::string out;
+  ASSERT_EQ(run_command(subscribe_command(" --description --timeout 20"), &out), 0)
+      << out << server.log();
+  EXPECT_NE(out.find("4 cameras, references 2 3, panorama 256x128"), std::string::npos) << out;
+  double seconds = 0;
+  EXPECT_EQ(server.stop(SIGTERM, 5, &seconds), 0) << server.log();
+}
+
+TEST_F(ServerTest, StatusArrivesOnceASecond) {
+  BackgroundProcess server(server_command(), dir_.path() / "server.log");
+  std::string out;
+  ASSERT_EQ(run_command(subscribe_command(" --statuses 5 --timeout 30"), &out), 0)
+      << out << server.log();
+  std::vector<double> times;
+  const std::regex status(R"(status at ([0-9.]+) s: (\w+), ([0-9.]+) fps in)");
+  for (std::sregex_iterator it(out.begin(), out.end(), status), end; it != end; ++it) {
+    times.push_back(std::stod((*it)[1]));
+    EXPECT_EQ((*it)[2], "running");
+  }
+  ASSERT_GE(times.size(), 5u) << out;
+  for (std::size_t i = 1; i < times.size(); ++i) {
+    EXPECT_NEAR(times[i] - times[i - 1], 1.0, 0.25) << out;
+  }
+  EXPECT_NE(out.find("ms: capture"), std::string::npos) << out;
+  double seconds = 0;
+  EXPECT_EQ(server.stop(SIGTERM, 5, &seconds), 0) << server.log();
+}
+
+TEST_F(ServerTest, SigtermStopsWithinOneSecondWithExitCodeZero) {
+  for (int signal : {SIGTERM, SIGINT}) {
+    BackgroundProcess server(server_command(), dir_.path() / "server.log");
+    // Wait until frames flow, so the signal lands while every stage is busy.
+    for (int i = 0; i < 100 && server.log().find("publishing") == std::string::npos; ++i)
+      std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    std::this_thread::sleep_for(std::chrono::seconds(2));
+    ASSERT_TRUE(server.running()) << server.log();
+    double seconds = 0;
+    EXPECT_EQ(server.stop(signal, 5, &seconds), 0) << server.log();
+    EXPECT_LT(seconds, 1.0) << server.log();
+    std::cout << strsignal(signal) << " -> exit in " << seconds * 1000 << " ms\n";
+  }
+}
+
+TEST_F(ServerTest, BadInputGivesAClearErrorAndNonZeroExit) {
+  const std::string server = (testing::bin_dir() / "omnisweep-server").string();
+  struct Case {
+    std::string args, expected;
+  };
+  const Case cases[] = {
+      {" --no-such-flag", "--no-such-flag"},
+      {" --source nonsense", "unknown source \"nonsense\""},
+      {" --source dataset:/nonexistent/data", "/nonexistent/data"},
+      {" --source video:a.mp4,b.mp4", "needs --calibration"},
+      {" --source video:a.mp4,b.mp4,c.mp4,d.mp4 --calibration /nonexistent/calib.json",
+       "/nonexistent/calib.json"},
+      {" --source video:/nonexistent/a.mp4,b.mp4,c.mp4,d.mp4 --calibration " +
+           (dir_.path() / "data" / "calibration.json").string(),
+       "camera 0 (video /nonexistent/a.mp4) does not open"},
+      {" --topic-prefix 'bad prefix'", "topic prefix"},
+      {" --domain 300", "--domain"},
+      {" --source dataset:" + (dir_.path() / "data").string() + " --references 2 9",
+       "reference"},
+  };
+  for (const Case& c : cases) {
+    std::string out;
+    EXPECT_NE(run_command(server + c.args, &out), 0) << c.args;
+    EXPECT_NE(out.find(c.expected), std::string::npos) << c.args << "\n" << out;
+  }
+}
+
+}  // namespace
+}  // namespace omnisweep
