@@ -44,12 +44,7 @@ class DatasetSource final : public FrameSource {
       }
       CapturedFrame out;
       out.images = depth::rgb8_images(*frame);
-      const std::uint64_t t = now_ns();
-      out.capture_time_ns.assign(out.images.size(), t);
-      for (auto& s : status_) {
-        ++s.frames;
-        s.last_frame_ns = t;
-      }
+      stamp_all_cameras(out, status_);
       return out;
     }
     throw SourceError("no frame of dataset " + dir_ + " loads");

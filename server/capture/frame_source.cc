@@ -25,6 +25,15 @@ std::uint64_t now_ns() {
                            .count());
 }
 
+void stamp_all_cameras(CapturedFrame& frame, std::vector<CameraStatus>& status) {
+  const std::uint64_t t = now_ns();
+  frame.capture_time_ns.assign(frame.images.size(), t);
+  for (auto& s : status) {
+    ++s.frames;
+    s.last_frame_ns = t;
+  }
+}
+
 std::unique_ptr<FrameSource> open_source(const std::string& spec, const SourceOptions& options) {
   if (spec == "synthetic") return open_synthetic_source(options);
   const std::size_t colon = spec.find(':');

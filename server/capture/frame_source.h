@@ -61,4 +61,7 @@ std::unique_ptr<FrameSource> open_source(const std::string& spec, const SourceOp
 
 std::uint64_t now_ns();  // CLOCK_REALTIME
 
+// For sources whose cameras deliver together: every camera captured now, counted as delivering.
+void stamp_all_cameras(CapturedFrame& frame, std::vector<CameraStatus>& status);
+
 }  // namespace omnisweep::capture

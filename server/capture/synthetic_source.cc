@@ -37,12 +37,7 @@ class SyntheticSource final : public FrameSource {
     }
     CapturedFrame out;
     for (const Rgb8Image& image : cache_[slot]) out.images.push_back(image.clone());
-    const std::uint64_t t = now_ns();
-    out.capture_time_ns.assign(out.images.size(), t);
-    for (auto& s : status_) {
-      ++s.frames;
-      s.last_frame_ns = t;
-    }
+    stamp_all_cameras(out, status_);
     return out;
   }
 

@@ -41,25 +41,25 @@ class StreamSubscriber::Listener final : public fdds::DataReaderListener {
         if (owner_.callbacks_.frame) owner_.callbacks_.frame(frame_);
       }
     } else if (kind == TopicKind::kDescription) {
-      msg::StreamDescription description;
-      while (reader->take_next_sample(&description, &info) == ReturnCode_t::RETCODE_OK) {
-        if (!info.valid_data) continue;
-        {
-          const std::lock_guard lock(owner_.mutex_);
-          owner_.description_ = description;
-        }
-        if (owner_.callbacks_.description) owner_.callbacks_.description(description);
-      }
+      take_latest(reader, owner_.description_, owner_.callbacks_.description);
     } else {
-      msg::ServerStatus status;
-      while (reader->take_next_sample(&status, &info) == ReturnCode_t::RETCODE_OK) {
-        if (!info.valid_data) continue;
-        {
-          const std::lock_guard lock(owner_.mutex_);
-          owner_.status_ = status;
-        }
-        if (owner_.callbacks_.status) owner_.callbacks_.status(status);
+      take_latest(reader, owner_.status_, owner_.callbacks_.status);
+    }
+  }
+
+  // Takes every sample, keeps the newest in `latest` and hands each to `callback`.
+  template <typename T>
+  void take_latest(fdds::DataReader* reader, std::optional<T>& latest,
+                   const std::function<void(const T&)>& callback) {
+    T sample;
+    fdds::SampleInfo info;
+    while (reader->take_next_sample(&sample, &info) == ReturnCode_t::RETCODE_OK) {
+      if (!info.valid_data) continue;
+      {
+        const std::lock_guard lock(owner_.mutex_);
+        latest = sample;
       }
+      if (callback) callback(sample);
     }
   }
 
