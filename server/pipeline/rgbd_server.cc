@@ -87,6 +87,7 @@ RgbdServer::RgbdServer(std::unique_ptr<capture::FrameSource> source, gpu::Contex
   options_.distance.max_distance = float(options_.depth.max_distance);
   options_.distance.check();
   stages_ = std::make_unique<Stages>(context, *source_, options_);
+  cameras_ = source_->camera_status();
   msg::StreamDescription& d = stages_->description;
   wire::add_rig(source_->rig(), &d);
   d.revision(capture::now_ns());
@@ -197,6 +198,7 @@ void RgbdServer::capture_loop() {
       {
         const std::lock_guard lock(stats_mutex_);
         state_ = "source stalled";
+        cameras_ = source_->camera_status();
       }
       std::fprintf(stderr, "omnisweep-server: source stalled: %s\n", e.what());
       if (options_.exit_on_source_end) throw;
@@ -210,13 +212,17 @@ void RgbdServer::capture_loop() {
         request_stop();
         return;
       }
-      const std::lock_guard lock(stats_mutex_);
-      state_ = "source ended";
+      {
+        const std::lock_guard lock(stats_mutex_);
+        state_ = "source ended";
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(100));
       continue;
     }
     add_stage_time("capture", ms_since(start));
     {
       const std::lock_guard lock(stats_mutex_);
+      cameras_ = source_->camera_status();
       ++captured_window_;
       if (state_ == "source stalled") state_ = "running";
     }
@@ -360,7 +366,11 @@ void RgbdServer::status_loop() {
     if (stop_) break;
     msg::ServerStatus status = make_status();
     // Camera fps over the last second, from the source's frame counters.
-    const auto health = source_->camera_status();
+    std::vector<capture::CameraStatus> health;
+    {
+      const std::lock_guard lock(stats_mutex_);
+      health = cameras_;
+    }
     std::vector<msg::CameraHealth> cameras;
     for (std::size_t i = 0; i < health.size(); ++i) {
       msg::CameraHealth h;

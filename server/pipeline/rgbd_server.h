@@ -93,6 +93,8 @@ class RgbdServer {
   mutable std::mutex stats_mutex_;
   std::map<std::string, std::pair<double, int>> stage_window_;  // sum ms, count this second
   std::map<std::string, std::uint64_t> drops_;
+  // The source's camera status, copied by the capture thread (the only one calling the source).
+  std::vector<capture::CameraStatus> cameras_;
   std::uint64_t captured_window_ = 0, published_window_ = 0;
   std::string state_ = "starting";
   std::string error_;
