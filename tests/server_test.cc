@@ -134,9 +134,12 @@ TEST_F(ServerTest, StatusArrivesOnceASecond) {
     EXPECT_EQ((*it)[2], "running");
   }
   ASSERT_GE(times.size(), 5u) << out;
+  // Each gap within 0.5 s of a second (delivery jitter on a loaded machine), their mean within
+  // 0.1 s (the server's clock paces them).
   for (std::size_t i = 1; i < times.size(); ++i) {
-    EXPECT_NEAR(times[i] - times[i - 1], 1.0, 0.25) << out;
+    EXPECT_NEAR(times[i] - times[i - 1], 1.0, 0.5) << out;
   }
+  EXPECT_NEAR((times.back() - times.front()) / double(times.size() - 1), 1.0, 0.1) << out;
   EXPECT_NE(out.find("ms: capture"), std::string::npos) << out;
   double seconds = 0;
   EXPECT_EQ(server.stop(SIGTERM, 5, &seconds), 0) << server.log();
