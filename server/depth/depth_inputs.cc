@@ -40,4 +40,24 @@ std::vector<const Rgb8Image*> pointers(const std::vector<Rgb8Image>& images) {
   return out;
 }
 
+std::vector<const FloatImage*> pointers(const std::vector<FloatImage>& images) {
+  std::vector<const FloatImage*> out;
+  for (const auto& im : images) out.push_back(&im);
+  return out;
+}
+
+std::vector<Rgb8Image> reference_colour_images(std::vector<Rgb8Image>& images,
+                                               const Rig& colour_rig,
+                                               const std::vector<int>& references) {
+  std::vector<Rgb8Image> out;
+  for (int r : references) {
+    const RigCamera& cam = colour_rig.cameras[r];
+    Rgb8Image rgb = std::move(images[r]);
+    if (rgb.width() != cam.width || rgb.height() != cam.height)
+      rgb = resize_area(rgb, cam.width, cam.height);
+    out.push_back(std::move(rgb));
+  }
+  return out;
+}
+
 }  // namespace omnisweep::depth

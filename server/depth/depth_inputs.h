@@ -20,5 +20,12 @@ std::vector<Rgb8Image> matching_images(const std::vector<Rgb8Image>& images,
 std::vector<std::optional<Gray8Image>> matching_masks(
     const std::vector<std::optional<Gray8Image>>& masks, const DepthOptions& options);
 std::vector<const Rgb8Image*> pointers(const std::vector<Rgb8Image>& images);
+std::vector<const FloatImage*> pointers(const std::vector<FloatImage>& images);
+
+// The reference cameras' images (taken from `images`, which keeps the others) at their size in
+// `colour_rig`, resized by area where they differ: what the stitcher samples colour from.
+std::vector<Rgb8Image> reference_colour_images(std::vector<Rgb8Image>& images,
+                                               const Rig& colour_rig,
+                                               const std::vector<int>& references);
 
 }  // namespace omnisweep::depth

@@ -6,7 +6,6 @@
 #include <fstream>
 #include <stdexcept>
 
-#include "omnisweep/image/image_io.h"
 #include "omnisweep/wire/wire.h"
 #include "server/depth/depth_estimator.h"
 #include "server/depth/depth_inputs.h"
@@ -250,20 +249,10 @@ void RgbdServer::stitch_loop() {
   while (auto item = stages_->to_stitch.pop()) {
     Job& job = **item;
     const auto start = Clock::now();
-    std::vector<const FloatImage*> distances;
-    std::vector<Rgb8Image> colour;
-    std::vector<const Rgb8Image*> colours;
-    for (std::size_t k = 0; k < options_.depth.references.size(); ++k) {
-      const int r = options_.depth.references[k];
-      const RigCamera& cam = stages_->colour_rig.cameras[r];
-      Rgb8Image& rgb = job.images[r];
-      colour.push_back(rgb.width() == cam.width && rgb.height() == cam.height
-                           ? std::move(rgb)
-                           : resize_area(rgb, cam.width, cam.height));
-      distances.push_back(&job.distance[k]);
-    }
-    for (const auto& c : colour) colours.push_back(&c);
-    job.panorama = stages_->stitcher.stitch(distances, colours);
+    const std::vector<Rgb8Image> colour =
+        depth::reference_colour_images(job.images, stages_->colour_rig, options_.depth.references);
+    job.panorama =
+        stages_->stitcher.stitch(depth::pointers(job.distance), depth::pointers(colour));
     job.images.clear();
     job.distance.clear();
     add_stage_time("stitch", ms_since(start));

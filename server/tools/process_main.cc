@@ -113,19 +113,10 @@ int run(int argc, char** argv) {
         std::vector<Rgb8Image> full = depth::rgb8_images(frame);
         const auto images = depth::matching_images(full, options);
         const depth::DepthResult result = estimator.estimate(depth::pointers(images));
-        std::vector<Rgb8Image> colour;
-        std::vector<const FloatImage*> distances;
-        std::vector<const Rgb8Image*> colours;
-        for (std::size_t k = 0; k < options.references.size(); ++k) {
-          const RigCamera& cam = colour_rig.cameras[options.references[k]];
-          Rgb8Image rgb = std::move(full[options.references[k]]);
-          if (rgb.width() != cam.width || rgb.height() != cam.height)
-            rgb = resize_area(rgb, cam.width, cam.height);
-          colour.push_back(std::move(rgb));
-          distances.push_back(&result.distance[k]);
-        }
-        for (const auto& c : colour) colours.push_back(&c);
-        const stitch::Panorama pano = stitcher.stitch(distances, colours);
+        const std::vector<Rgb8Image> colour =
+            depth::reference_colour_images(full, colour_rig, options.references);
+        const stitch::Panorama pano =
+            stitcher.stitch(depth::pointers(result.distance), depth::pointers(colour));
         const double ms = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
 
         FloatImage inverse(pano.distance.width(), pano.distance.height(), 1);
