@@ -6,12 +6,7 @@
 // order). Panoramas wrap around horizontally.
 layout(local_size_x_id = 100, local_size_y_id = 101, local_size_z_id = 102) in;
 
-struct Direction {
-  uint codes;
-  float weight0;
-  float weight1;
-  uint unused;
-};
+#include "inpaint.glsl"
 
 layout(std430, set = 0, binding = 0) readonly buffer Directions { Direction directions[]; };
 layout(std430, set = 0, binding = 1) readonly buffer Source { uint source[]; };
@@ -23,8 +18,6 @@ layout(push_constant) uniform Push {
 } push;
 
 const uint kEmpty = 0xffffffffu;
-const ivec2 kNeighbours[8] = ivec2[8](ivec2(1, 0), ivec2(1, 1), ivec2(0, 1), ivec2(-1, 1), ivec2(-1, 0),
-                                      ivec2(-1, -1), ivec2(0, -1), ivec2(1, -1));
 
 void main() {
   const uvec2 q = gl_GlobalInvocationID.xy;
@@ -38,12 +31,9 @@ void main() {
   const Direction d = directions[index];
   float sum = 0.0, total = 0.0;
   for (uint k = 0u; k < 2u; ++k) {
-    const uint code = (d.codes >> (8u * k)) & 0xffu;
-    if (code > 7u) continue;
-    ivec2 n = ivec2(q) + kNeighbours[code];
-    if (push.wrap_x != 0u) n.x = (n.x + int(push.width)) % int(push.width);
-    if (n.x < 0 || n.y < 0 || n.x >= int(push.width) || n.y >= int(push.height)) continue;
-    const uint value = source[uint(n.y) * push.width + uint(n.x)];
+    const int n = inpaint_neighbour(d, k, q, push.width, push.height, push.wrap_x);
+    if (n < 0) continue;
+    const uint value = source[n];
     if (value == kEmpty) continue;
     const float w = k == 0u ? d.weight0 : d.weight1;
     sum += w * uintBitsToFloat(value);

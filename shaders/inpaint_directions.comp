@@ -7,13 +7,7 @@
 layout(local_size_x_id = 100, local_size_y_id = 101, local_size_z_id = 102) in;
 
 #include "camera.glsl"
-
-struct Direction {
-  uint codes;  // neighbour index (0-7) of the first choice | second << 8; 0xff: none
-  float weight0;
-  float weight1;
-  uint unused;
-};
+#include "inpaint.glsl"
 
 layout(std430, set = 0, binding = 0) readonly buffer Cameras { Camera cameras[]; };  // source, target
 layout(std430, set = 0, binding = 1) writeonly buffer Directions { Direction directions[]; };
@@ -21,9 +15,6 @@ layout(push_constant) uniform Push {
   float d_min;
   float d_max;
 } push;
-
-const ivec2 kNeighbours[8] = ivec2[8](ivec2(1, 0), ivec2(1, 1), ivec2(0, 1), ivec2(-1, 1), ivec2(-1, 0),
-                                      ivec2(-1, -1), ivec2(0, -1), ivec2(1, -1));
 
 void main() {
   const Camera target = cameras[1];

@@ -1,6 +1,7 @@
 // omnisweep-bench: GPU time per depth stage at several matching resolutions, and the ISB filter
 // side by side with OpenCV's guided filter, fast bilateral solver and box filter on one
-// synthetic cost volume (the paper's Table 2 on this machine). A benchmark, not a test: it
+// synthetic cost volume (the paper's Table 2 on this machine), the codecs against 16-bit PNG,
+// and novel-view reprojection (bench_reproject.cc). A benchmark, not a test: it
 // prints what it measured.
 #include <fcntl.h>
 #include <unistd.h>
@@ -27,6 +28,7 @@
 #include "server/depth/depth_inputs.h"
 #include "server/depth/depth_reference.h"
 #include "server/stitch/stitcher.h"
+#include "server/tools/bench_reproject.h"
 #include "server/tools/tool_main.h"
 
 namespace {
@@ -391,7 +393,7 @@ int run(int argc, char** argv) {
   std::vector<int> resolutions = {256, 512, 1024};
   int filter_resolution = 1024, iterations = 3;
   bool json = false, skip_fbs = false;
-  std::vector<std::string> sections = {"stages", "filters", "codecs"};
+  std::vector<std::string> sections = {"stages", "filters", "codecs", "reproject"};
   std::string kaist_dir;
   if (const char* shared = std::getenv("OMNISWEEP_SHARED_DIR"))
     kaist_dir = std::string(shared) + "/data/kaist-rig";
@@ -409,8 +411,8 @@ int run(int argc, char** argv) {
       "Vulkan device: index or name substring (default: OMNISWEEP_VK_DEVICE, else the best)");
   app.add_flag("--json", json, "One JSON object per row instead of tables");
   app.add_flag("--skip-fbs", skip_fbs, "Leave out the (slow) fast bilateral solver");
-  app.add_option("--sections", sections, "What to measure: stages, filters, codecs (default: all)")
-      ->check(CLI::IsMember({"stages", "filters", "codecs"}))
+  app.add_option("--sections", sections, "What to measure: stages, filters, codecs, reproject (default: all)")
+      ->check(CLI::IsMember({"stages", "filters", "codecs", "reproject"}))
       ->delimiter(',');
   app.add_option("--kaist", kaist_dir,
                  "kaist-rig dataset for the codec comparison (default ../shared/data/kaist-rig)");
@@ -430,6 +432,7 @@ int run(int argc, char** argv) {
   if (want("stages")) stage_section(context, resolutions, iterations, json);
   if (want("filters")) filter_section(context, filter_resolution, iterations, skip_fbs, json);
   if (want("codecs")) codec_section(context, kaist_dir, json);
+  if (want("reproject")) tools::reproject_section(context, iterations, json);
   return 0;
 }
 

@@ -24,26 +24,55 @@ ForwardWarper::ForwardWarper(gpu::Context& context, const GpuCamera& source,
       cameras_(context, 2 * sizeof(GpuCamera)),
       directions_(context, pixels(target) * 16),
       buffers_{gpu::Buffer(context, pixels(target) * 4), gpu::Buffer(context, pixels(target) * 4)},
-      warp_(context, "forward_warp", {.bindings = {1, 1, 1}}),
+      warp_(context, "forward_warp", {.bindings = {1, 1, 1}, .push_constant_bytes = 4}),
+      directions_kernel_(context, "inpaint_directions",
+                         {.bindings = {1, 1}, .push_constant_bytes = 8}),
       inpaint_(context, "directional_inpaint",
                {.bindings = {1, 1, 1}, .push_constant_bytes = sizeof(InpaintPush)}) {
   if (source.width == 0 || target.width == 0)
     throw std::invalid_argument("forward warp: empty source or target");
   if (!(options.min_distance > 0) || !(options.max_distance > options.min_distance) ||
-      options.inpaint_passes < 0) {
+      options.inpaint_passes < 0 || !(options.max_splat >= 1.0) ||
+      !(options.occlusion_tolerance >= 0 && options.occlusion_tolerance < 1)) {
     throw std::invalid_argument(
-        "forward warp: need 0 < min distance < max distance and inpaint passes >= 0");
+        "forward warp: need 0 < min distance < max distance, inpaint passes >= 0, max splat >= 1 "
+        "and 0 <= occlusion tolerance < 1");
   }
-  const GpuCamera pair[2] = {source, target};
+  if (options.colour) {
+    colour_buffers_.emplace_back(context, pixels(target) * 4);
+    colour_buffers_.emplace_back(context, pixels(target) * 4);
+    sample_colour_.emplace(
+        context, "sample_view_colour",
+        gpu::KernelLayout{.bindings = {1, 1, 1, 1, 1}, .push_constant_bytes = 4});
+    inpaint_colour_.emplace(
+        context, "directional_inpaint_colour",
+        gpu::KernelLayout{.bindings = {1, 1, 1}, .push_constant_bytes = sizeof(InpaintPush)});
+  }
+  set_target(target);
+}
+
+void ForwardWarper::set_target(const GpuCamera& target) {
+  if (target.width != target_.width || target.height != target_.height)
+    throw std::invalid_argument("forward warp: set_target must keep the target's size");
+  target_ = target;
+  const GpuCamera pair[2] = {source_, target_};
   cameras_.upload(pair, sizeof(pair));
-  const gpu::Kernel directions(context, "inpaint_directions",
-                               {.bindings = {1, 1}, .push_constant_bytes = 8});
-  gpu::Sequence seq(context, 4, 1);
-  seq.begin();
-  const float push[2] = {float(options.min_distance), float(options.max_distance)};
-  seq.dispatch(directions, {cameras_, directions_}, push, sizeof(push),
-               directions.groups_for(target.width, target.height));
-  seq.submit_and_wait();
+  directions_stale_ = true;
+}
+
+void ForwardWarper::set_inpaint_passes(int passes) {
+  if (passes < 0) throw std::invalid_argument("forward warp: inpaint passes must be >= 0");
+  options_.inpaint_passes = passes;
+}
+
+void ForwardWarper::record_inpaint(gpu::Sequence& seq, const gpu::Kernel& kernel,
+                                   gpu::Buffer* buffers) const {
+  const InpaintPush push{target_.width, target_.height, target_.model == 4 ? 1u : 0u};
+  for (int pass = 0; pass < options_.inpaint_passes; ++pass) {
+    seq.dispatch(kernel, {directions_, buffers[pass % 2], buffers[(pass + 1) % 2]}, push,
+                 kernel.groups_for(target_.width, target_.height));
+    seq.barrier();
+  }
 }
 
 void ForwardWarper::record(gpu::Sequence& seq, const gpu::Buffer& distance) {
@@ -51,17 +80,32 @@ void ForwardWarper::record(gpu::Sequence& seq, const gpu::Buffer& distance) {
     throw std::invalid_argument(
         "forward warp: the distance buffer holds fewer than the source's pixels");
   }
+  if (directions_stale_) {
+    const float push[2] = {float(options_.min_distance), float(options_.max_distance)};
+    seq.dispatch(directions_kernel_, {cameras_, directions_}, push, sizeof(push),
+                 directions_kernel_.groups_for(target_.width, target_.height));
+    directions_stale_ = false;
+  }
   seq.fill(buffers_[0], kEmpty);
   seq.barrier();
-  seq.dispatch(warp_, {cameras_, distance, buffers_[0]}, nullptr, 0,
+  const float splat = float(options_.max_splat);
+  seq.dispatch(warp_, {cameras_, distance, buffers_[0]}, splat,
                warp_.groups_for(source_.width, source_.height));
   seq.barrier();
-  const InpaintPush push{target_.width, target_.height, target_.model == 4 ? 1u : 0u};
-  for (int pass = 0; pass < options_.inpaint_passes; ++pass) {
-    seq.dispatch(inpaint_, {directions_, buffers_[pass % 2], buffers_[(pass + 1) % 2]}, push,
-                 inpaint_.groups_for(target_.width, target_.height));
-    seq.barrier();
-  }
+  record_inpaint(seq, inpaint_, buffers_);
+}
+
+void ForwardWarper::record_colour(gpu::Sequence& seq, const gpu::Buffer& distance,
+                                  const gpu::Buffer& source_colour) {
+  if (!options_.colour)
+    throw std::logic_error("forward warp: record_colour needs WarpOptions::colour");
+  if (source_colour.size() < pixels(source_) * 4 || distance.size() < pixels(source_) * 4)
+    throw std::invalid_argument("forward warp: a source buffer holds fewer than its pixels");
+  const float tolerance = float(options_.occlusion_tolerance);
+  seq.dispatch(*sample_colour_, {cameras_, result(), distance, source_colour, colour_buffers_[0]},
+               tolerance, sample_colour_->groups_for(target_.width, target_.height));
+  seq.barrier();
+  record_inpaint(seq, *inpaint_colour_, colour_buffers_.data());
 }
 
 const gpu::Buffer& ForwardWarper::result() const { return buffers_[options_.inpaint_passes % 2]; }
@@ -71,6 +115,19 @@ FloatImage ForwardWarper::download() const {
   FloatImage out(int(target_.width), int(target_.height), 1, 0.0f);
   for (std::size_t i = 0; i < out.size(); ++i) {
     if (bits[i] != kEmpty) std::memcpy(&out.data()[i], &bits[i], 4);
+  }
+  return out;
+}
+
+Rgb8Image ForwardWarper::download_colour() const {
+  if (!options_.colour)
+    throw std::logic_error("forward warp: download_colour needs WarpOptions::colour");
+  const std::vector<std::uint32_t> packed =
+      colour_buffers_[options_.inpaint_passes % 2].download<std::uint32_t>();
+  Rgb8Image out(int(target_.width), int(target_.height), 3, 0);
+  std::uint8_t* rgb = out.data();
+  for (std::size_t p = 0; p < packed.size(); ++p) {
+    for (int c = 0; c < 3; ++c) rgb[3 * p + c] = std::uint8_t(packed[p] >> (8 * c));
   }
   return out;
 }

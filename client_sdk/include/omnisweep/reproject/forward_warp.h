@@ -13,6 +13,9 @@
 //   FloatImage at_target = warper.download();  // 0 where nothing landed (after inpainting)
 #pragma once
 
+#include <optional>
+#include <vector>
+
 #include "omnisweep/gpu/kernel.h"
 #include "omnisweep/gpu/sequence.h"
 #include "omnisweep/image/image.h"
@@ -24,36 +27,65 @@ struct WarpOptions {
   double min_distance = 0.55;  // d_min and d_max of the background direction (ALGORITHM.md §5)
   double max_distance = 100.0;
   int inpaint_passes = 32;  // more than the widest expected hole
+  // 1: each source pixel lands on its nearest target pixel (the paper). Larger: it covers its
+  // footprint in the target, up to this many pixels across (views that magnify the source).
+  double max_splat = 1.0;
+  // Allocate what record_colour needs.
+  bool colour = false;
+  // record_colour: a point is hidden from the source when the source's distance map holds a
+  // value nearer than (1 - occlusion_tolerance) times the point's distance.
+  double occlusion_tolerance = 0.1;
 };
 
 class ForwardWarper {
  public:
   // `source.rows` must be the identity; `target.rows` hold target_from_source. The background
-  // directions are computed here, once per pose.
+  // directions are computed by the first record(), and again after set_target().
   ForwardWarper(gpu::Context& context, const GpuCamera& source, const GpuCamera& target,
                 const WarpOptions& options);
+
+  // A new target camera or pose of the same size (a moving viewer). Not while a sequence that
+  // uses this warper is still running.
+  void set_target(const GpuCamera& target);
+  void set_inpaint_passes(int passes);
 
   // Records: clear the z-buffer, warp `distance` (source width x height floats; <= 0 = none),
   // inpaint. The result is valid after the sequence has run.
   void record(gpu::Sequence& seq, const gpu::Buffer& distance);
+  // Records, after record(): the colour of every target pixel sampled from `source_colour`
+  // (source pixels packed as pack_rgba8 makes them) where the source sees that point, then the
+  // rest (disocclusions) inpainted from the background side. `distance` is the map given to
+  // record(). Needs WarpOptions::colour.
+  void record_colour(gpu::Sequence& seq, const gpu::Buffer& distance,
+                     const gpu::Buffer& source_colour);
 
   // Target width x height; bits of float distances, 0xffffffff where there is none.
   const gpu::Buffer& result() const;
   // The result as distances, 0 where there is none.
   FloatImage download() const;
+  // The colour after record_colour, black where nothing could be filled.
+  Rgb8Image download_colour() const;
 
   int target_width() const { return int(target_.width); }
   int target_height() const { return int(target_.height); }
+  const GpuCamera& target() const { return target_; }
 
  private:
+  void record_inpaint(gpu::Sequence& seq, const gpu::Kernel& kernel, gpu::Buffer* buffers) const;
+
   GpuCamera source_;
   GpuCamera target_;
   WarpOptions options_;
+  bool directions_stale_ = true;
   gpu::Buffer cameras_;
   gpu::Buffer directions_;
-  gpu::Buffer buffers_[2];  // ping-pong z-buffers
+  gpu::Buffer buffers_[2];                   // ping-pong z-buffers
+  std::vector<gpu::Buffer> colour_buffers_;  // ping-pong colours (WarpOptions::colour only)
   gpu::Kernel warp_;
+  gpu::Kernel directions_kernel_;
   gpu::Kernel inpaint_;
+  std::optional<gpu::Kernel> sample_colour_;
+  std::optional<gpu::Kernel> inpaint_colour_;
 };
 
 }  // namespace omnisweep::reproject

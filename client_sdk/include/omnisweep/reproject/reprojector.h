@@ -1,0 +1,92 @@
+// Novel views of an RGB-D panorama on the GPU: what teleoperation and VR apps render from a
+// received frame. The same forward warp, z-buffer and directional inpainting as the server's
+// stitcher (forward_warp.h) carry the distance to the requested pose; colour is then sampled
+// from the panorama where it sees the point, and disocclusions fill from the background side.
+//
+//   Reprojector reprojector(context);
+//   reprojector.set_panorama(frame.colour, frame.distance, frame.viewpoint);
+//   Rigid3d rig_from_eye(Eigen::Quaterniond::Identity(), {0.03, 0, 0});
+//   View eye = reprojector.render_pinhole(rig_from_eye, pinhole_for_fov(1024, 1024, 90), 1024,
+//   1024);
+//
+// Poses are rig_from_view (position and orientation of the view in the rig frame). Views look
+// along their +z axis with x right and y down, as the rig's cameras; an equirectangular view
+// uses the ALGORITHM.md §5 convention in the view's axes. Distances are Euclidean, in metres,
+// from the view's centre; 0 where nothing could be filled.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <map>
+#include <optional>
+
+#include "omnisweep/camera/pinhole_camera.h"
+#include "omnisweep/geometry/rigid3.h"
+#include "omnisweep/gpu/buffer.h"
+#include "omnisweep/image/image.h"
+#include "omnisweep/reproject/forward_warp.h"
+
+namespace omnisweep::reproject {
+
+struct ReprojectorOptions {
+  double min_distance = 0.55;  // the stream's distance range (StreamDescription)
+  double max_distance = 100.0;
+  double max_splat = 4.0;  // footprint splatting for views that magnify the panorama
+  double occlusion_tolerance = 0.1;
+  // Inpainting passes follow the widest hole the pose can open (its translation times the
+  // inverse distance of the panorama's nearest surface, in target pixels), plus 4 for
+  // cracks, up to this many.
+  int max_inpaint_passes = 256;
+
+  void check() const;  // throws std::invalid_argument naming the bad option
+};
+
+struct View {
+  Rgb8Image colour;
+  FloatImage distance;     // metres from the view's centre, 0 = none
+  int inpaint_passes = 0;  // what this pose needed
+};
+
+// The six faces of a cube map, in this order; each is a 90-degree pinhole view.
+enum class CubeFace { kRight, kLeft, kDown, kUp, kFront, kBack };
+// view_from_face: the rotation of a face's camera within the view (x right, y down, z forward:
+// front looks along +z; down and up faces have the front at the top and bottom of the image).
+Eigen::Quaterniond cube_face_rotation(CubeFace face);
+
+// A pinhole camera of width x height pixels with the given horizontal field of view, square
+// pixels and the principal point at the image centre. Throws std::invalid_argument.
+PinholeCamera<double> pinhole_for_fov(int width, int height, double horizontal_fov_deg);
+
+class Reprojector {
+ public:
+  explicit Reprojector(gpu::Context& context, const ReprojectorOptions& options = {});
+
+  // The panorama to render from: colour (RGB) and distance (metres, 0 = none) of the same
+  // width x height, in the rig frame's axes, centred on `viewpoint` (rig frame).
+  void set_panorama(const Rgb8Image& colour, const FloatImage& distance,
+                    const Eigen::Vector3d& viewpoint);
+
+  View render_panorama(const Rigid3d& rig_from_view, int width, int height);
+  View render_pinhole(const Rigid3d& rig_from_view, const PinholeCamera<double>& camera, int width,
+                      int height);
+  std::array<View, 6> render_cube_map(const Rigid3d& rig_from_view, int face_size);
+
+  // GPU milliseconds of the last render (0 where the device has no timestamps).
+  double last_gpu_ms() const { return last_gpu_ms_; }
+
+ private:
+  View render(const GpuCamera& target, int slot, double pixels_per_radian);
+
+  gpu::Context* context_;
+  ReprojectorOptions options_;
+  std::optional<gpu::Buffer> distance_;
+  std::optional<gpu::Buffer> colour_;
+  GpuCamera source_{};
+  Eigen::Vector3d viewpoint_ = Eigen::Vector3d::Zero();
+  double nearest_ = 0;  // the panorama's nearest distance, at least min_distance
+  // One warper per target model, size and slot (cube faces), reused as the pose changes.
+  std::map<std::array<std::uint32_t, 4>, ForwardWarper> warpers_;
+  double last_gpu_ms_ = 0;
+};
+
+}  // namespace omnisweep::reproject

@@ -1,0 +1,183 @@
+#include "omnisweep/reproject/reprojector.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
+#include <string>
+
+#include "omnisweep/gpu/sequence.h"
+
+namespace omnisweep::reproject {
+
+void ReprojectorOptions::check() const {
+  if (!(min_distance > 0) || !(max_distance > min_distance))
+    throw std::invalid_argument("reprojector: need 0 < min distance < max distance");
+  if (!(max_splat >= 1.0)) throw std::invalid_argument("reprojector: max splat must be >= 1");
+  if (!(occlusion_tolerance >= 0 && occlusion_tolerance < 1))
+    throw std::invalid_argument("reprojector: occlusion tolerance must lie in [0, 1)");
+  if (max_inpaint_passes < 0 || max_inpaint_passes > 1024)
+    throw std::invalid_argument("reprojector: max inpaint passes must lie in [0, 1024]");
+}
+
+Eigen::Quaterniond cube_face_rotation(CubeFace face) {
+  // The face camera's z (forward) and y (down) axes in the view's frame; x = y cross z.
+  const Eigen::Vector3d x = Eigen::Vector3d::UnitX(), y = Eigen::Vector3d::UnitY(),
+                        z = Eigen::Vector3d::UnitZ();
+  Eigen::Vector3d forward = z, down = y;
+  switch (face) {
+    case CubeFace::kRight:
+      forward = x;
+      break;
+    case CubeFace::kLeft:
+      forward = -x;
+      break;
+    case CubeFace::kDown:
+      forward = y, down = -z;
+      break;
+    case CubeFace::kUp:
+      forward = -y, down = z;
+      break;
+    case CubeFace::kFront:
+      break;
+    case CubeFace::kBack:
+      forward = -z;
+      break;
+  }
+  Eigen::Matrix3d m;
+  m.col(0) = down.cross(forward);
+  m.col(1) = down;
+  m.col(2) = forward;
+  return Eigen::Quaterniond(m);
+}
+
+PinholeCamera<double> pinhole_for_fov(int width, int height, double horizontal_fov_deg) {
+  if (width <= 0 || height <= 0 || width > 16384 || height > 16384)
+    throw std::invalid_argument("pinhole view: size must be 1-16384 pixels per side");
+  if (!(horizontal_fov_deg > 0 && horizontal_fov_deg < 179))
+    throw std::invalid_argument("pinhole view: field of view must lie in (0, 179) degrees");
+  const double f = 0.5 * width / std::tan(0.5 * horizontal_fov_deg * std::numbers::pi / 180);
+  return PinholeCamera<double>({f, f, 0.5 * (width - 1), 0.5 * (height - 1)});
+}
+
+Reprojector::Reprojector(gpu::Context& context, const ReprojectorOptions& options)
+    : context_(&context), options_(options) {
+  options_.check();
+}
+
+void Reprojector::set_panorama(const Rgb8Image& colour, const FloatImage& distance,
+                               const Eigen::Vector3d& viewpoint) {
+  if (colour.width() != distance.width() || colour.height() != distance.height() ||
+      colour.channels() != 3 || distance.channels() != 1 || colour.width() != 2 * colour.height() ||
+      colour.height() <= 0) {
+    throw std::invalid_argument(
+        "reprojector: the panorama needs RGB colour and one-channel distance of the same 2:1 size, "
+        "got " +
+        std::to_string(colour.width()) + "x" + std::to_string(colour.height()) + " and " +
+        std::to_string(distance.width()) + "x" + std::to_string(distance.height()));
+  }
+  const GpuCamera source = pack_equirectangular(colour.width(), colour.height(), Rigid3d());
+  if (source.width != source_.width || source.height != source_.height) {
+    warpers_.clear();
+    const std::size_t bytes = colour.size() / 3 * 4;
+    distance_.emplace(*context_, bytes);
+    colour_.emplace(*context_, bytes);
+  }
+  source_ = source;
+  std::vector<std::uint32_t> packed(colour.size() / 3);
+  pack_rgba8(colour, packed);
+  colour_->upload(std::span<const std::uint32_t>(packed));
+  distance_->upload(distance.data(), distance.size() * sizeof(float));
+  viewpoint_ = viewpoint;
+  nearest_ = options_.max_distance;
+  for (std::size_t i = 0; i < distance.size(); ++i) {
+    const float d = distance.data()[i];
+    if (d > 0 && d < nearest_) nearest_ = d;
+  }
+  nearest_ = std::max(nearest_, options_.min_distance);
+}
+
+View Reprojector::render(const GpuCamera& target, int slot, double pixels_per_radian) {
+  if (!distance_) throw std::logic_error("reprojector: set_panorama before rendering");
+  // Widest disocclusion this pose can open: the parallax between the panorama's nearest
+  // surface and d_max.
+  const Eigen::Vector3d t(target.rows[0][3], target.rows[1][3], target.rows[2][3]);
+  const double hole = t.norm() * (1 / nearest_ - 1 / options_.max_distance) * pixels_per_radian;
+  const int passes = int(std::min<double>(options_.max_inpaint_passes, std::ceil(hole) + 4));
+
+  const std::array<std::uint32_t, 4> key = {target.model, target.width, target.height,
+                                            std::uint32_t(slot)};
+  auto it = warpers_.find(key);
+  if (it == warpers_.end()) {
+    const WarpOptions warp{.min_distance = options_.min_distance,
+                           .max_distance = options_.max_distance,
+                           .inpaint_passes = passes,
+                           .max_splat = options_.max_splat,
+                           .colour = true,
+                           .occlusion_tolerance = options_.occlusion_tolerance};
+    it = warpers_.try_emplace(key, *context_, source_, target, warp).first;
+  } else {
+    it->second.set_target(target);
+    it->second.set_inpaint_passes(passes);
+  }
+  ForwardWarper& warper = it->second;
+  gpu::Sequence seq(*context_, std::uint32_t(2 * passes + 16), 2);
+  seq.begin();
+  seq.begin_stage("reproject");
+  warper.record(seq, *distance_);
+  warper.record_colour(seq, *distance_, *colour_);
+  seq.end_stage();
+  seq.submit_and_wait();
+  last_gpu_ms_ = seq.stage_ms().empty() ? 0 : seq.stage_ms().front().second;
+  return View{warper.download_colour(), warper.download(), passes};
+}
+
+namespace {
+
+// view_from_pano for a view at rig_from_view when the panorama sits at `viewpoint`.
+Rigid3d view_from_panorama(const Rigid3d& rig_from_view, const Eigen::Vector3d& viewpoint) {
+  return rig_from_view.inverse() * Rigid3d(Eigen::Quaterniond::Identity(), viewpoint);
+}
+
+void check_size(int width, int height, const char* what) {
+  if (width <= 0 || height <= 0 || width > 16384 || height > 16384)
+    throw std::invalid_argument(std::string("reprojector: ") + what +
+                                " size must be 1-16384 pixels per side");
+}
+
+}  // namespace
+
+View Reprojector::render_panorama(const Rigid3d& rig_from_view, int width, int height) {
+  check_size(width, height, "panorama");
+  const GpuCamera target =
+      pack_equirectangular(width, height, view_from_panorama(rig_from_view, viewpoint_));
+  return render(target, 0, width / (2 * std::numbers::pi));
+}
+
+View Reprojector::render_pinhole(const Rigid3d& rig_from_view, const PinholeCamera<double>& camera,
+                                 int width, int height) {
+  check_size(width, height, "pinhole view");
+  const GpuCamera target = pack_camera(CameraModel<double>(camera), width, height,
+                                       view_from_panorama(rig_from_view, viewpoint_));
+  // Pixels per radian at the image's widest point, where a pinhole magnifies most.
+  const auto p = camera.params();
+  const double edge = std::max({p[2], width - 1 - p[2], p[3], height - 1 - p[3]});
+  const double f = std::max(p[0], p[1]);
+  return render(target, 0, f * (1 + (edge / f) * (edge / f)));
+}
+
+std::array<View, 6> Reprojector::render_cube_map(const Rigid3d& rig_from_view, int face_size) {
+  check_size(face_size, face_size, "cube face");
+  const PinholeCamera<double> camera = pinhole_for_fov(face_size, face_size, 90);
+  std::array<View, 6> faces;
+  for (int f = 0; f < 6; ++f) {
+    const Rigid3d view_from_face(cube_face_rotation(CubeFace(f)), Eigen::Vector3d::Zero());
+    const GpuCamera target =
+        pack_camera(CameraModel<double>(camera), face_size, face_size,
+                    view_from_panorama(rig_from_view * view_from_face, viewpoint_));
+    faces[f] = render(target, 1 + f, face_size);
+  }
+  return faces;
+}
+
+}  // namespace omnisweep::reproject

@@ -1,0 +1,43 @@
+#version 450
+#extension GL_GOOGLE_include_directive : require
+// One pass of directional inpainting of colour (ALGORITHM.md §5 step 2, as
+// directional_inpaint.comp does for distance): an empty pixel (alpha 0) takes the weighted mean
+// of its two background-side neighbours that already hold a colour in the previous pass
+// (ping-pong buffers). Fills the disocclusions of reprojected views from the background.
+layout(local_size_x_id = 100, local_size_y_id = 101, local_size_z_id = 102) in;
+
+#include "inpaint.glsl"
+#include "pixels.glsl"
+
+layout(std430, set = 0, binding = 0) readonly buffer Directions { Direction directions[]; };
+layout(std430, set = 0, binding = 1) readonly buffer Source { uint source[]; };
+layout(std430, set = 0, binding = 2) writeonly buffer Destination { uint destination[]; };
+layout(push_constant) uniform Push {
+  uint width;
+  uint height;
+  uint wrap_x;
+} push;
+
+void main() {
+  const uvec2 q = gl_GlobalInvocationID.xy;
+  if (q.x >= push.width || q.y >= push.height) return;
+  const uint index = q.y * push.width + q.x;
+  const uint own = source[index];
+  if ((own >> 24) != 0u) {
+    destination[index] = own;
+    return;
+  }
+  const Direction d = directions[index];
+  vec3 sum = vec3(0.0);
+  float total = 0.0;
+  for (uint k = 0u; k < 2u; ++k) {
+    const int n = inpaint_neighbour(d, k, q, push.width, push.height, push.wrap_x);
+    if (n < 0) continue;
+    const uint value = source[n];
+    if ((value >> 24) == 0u) continue;
+    const float w = k == 0u ? d.weight0 : d.weight1;
+    sum += w * unpack_rgb(value);
+    total += w;
+  }
+  destination[index] = total > 0.0 ? pack_rgb(uvec3(clamp(sum / total + 0.5, 0.0, 255.0))) | 0xff000000u : 0u;
+}

@@ -1,0 +1,23 @@
+// Shared by the directional inpainting kernels (ALGORITHM.md §5 step 2): each pixel's two
+// background-side neighbours, chosen once per pose by inpaint_directions.comp.
+
+struct Direction {
+  uint codes;  // neighbour index (0-7) of the first choice | second << 8; 0xff: none
+  float weight0;
+  float weight1;
+  uint unused;
+};
+
+const ivec2 kNeighbours[8] = ivec2[8](ivec2(1, 0), ivec2(1, 1), ivec2(0, 1), ivec2(-1, 1), ivec2(-1, 0),
+                                      ivec2(-1, -1), ivec2(0, -1), ivec2(1, -1));
+
+// Index of neighbour k (0 or 1) of pixel q in `d`, or -1 when there is none or it lies outside
+// the image (panoramas wrap around horizontally when wrap_x is set).
+int inpaint_neighbour(Direction d, uint k, uvec2 q, uint width, uint height, uint wrap_x) {
+  const uint code = (d.codes >> (8u * k)) & 0xffu;
+  if (code > 7u) return -1;
+  ivec2 n = ivec2(q) + kNeighbours[code];
+  if (wrap_x != 0u) n.x = (n.x + int(width)) % int(width);
+  if (n.x < 0 || n.y < 0 || n.x >= int(width) || n.y >= int(height)) return -1;
+  return n.y * int(width) + n.x;
+}
