@@ -15,18 +15,14 @@
 #include <mutex>
 #include <thread>
 
+#include "client_sdk/tools/tool_main.h"
 #include "omnisweep/dds/stream_subscriber.h"
+#include "omnisweep/time/clock.h"
 #include "omnisweep/wire/wire.h"
 
 namespace {
 
 using namespace omnisweep;
-
-std::uint64_t now_ns() {
-  return std::uint64_t(std::chrono::duration_cast<std::chrono::nanoseconds>(
-                           std::chrono::system_clock::now().time_since_epoch())
-                           .count());
-}
 
 std::atomic<bool> g_stop{false};
 void on_signal(int) { g_stop = true; }
@@ -71,7 +67,7 @@ int run(int argc, char** argv) {
   callbacks.description = [&](const msg::StreamDescription& d) {
     try {
       const Rig rig = wire::rig_from_description(d);
-      std::printf("description: revision %llu, %d cameras, references", 
+      std::printf("description: revision %llu, %d cameras, references",
                   static_cast<unsigned long long>(d.revision()), rig.num_cameras());
       for (int r : d.references()) std::printf(" %d", r);
       std::printf(", panorama %ux%u, viewpoint %.3f %.3f %.3f m, codecs %s + %s\n",
@@ -86,7 +82,7 @@ int run(int argc, char** argv) {
   callbacks.frame = [&](const msg::RgbdFrame& frame) {
     try {
       const wire::DecodedFrame decodedFrame = wire::decode_frame(frame);
-      const std::uint64_t t = now_ns();
+      const std::uint64_t t = wall_clock_ns();
       std::uint64_t captured = 0;
       for (std::uint64_t c : frame.capture_time_ns()) captured = std::max(captured, c);
       if (!dump_dir.empty()) {
@@ -152,10 +148,11 @@ int run(int argc, char** argv) {
     std::vector<double> l = window.latency_ms;
     std::sort(l.begin(), l.end());
     if (!quiet) {
-      std::printf("%llu fps, latency median %.1f ms (max %.1f), %.2f Mbit/s, %llu lost, %d server(s)\n",
-                  static_cast<unsigned long long>(window.frames), l.empty() ? 0.0 : l[l.size() / 2],
-                  l.empty() ? 0.0 : l.back(), window.bytes * 8e-6,
-                  static_cast<unsigned long long>(window.lost), subscriber.matched_servers());
+      std::printf(
+          "%llu fps, latency median %.1f ms (max %.1f), %.2f Mbit/s, %llu lost, %d server(s)\n",
+          static_cast<unsigned long long>(window.frames), l.empty() ? 0.0 : l[l.size() / 2],
+          l.empty() ? 0.0 : l.back(), window.bytes * 8e-6,
+          static_cast<unsigned long long>(window.lost), subscriber.matched_servers());
       std::fflush(stdout);
     }
     all_latency.insert(all_latency.end(), l.begin(), l.end());
@@ -183,13 +180,14 @@ int run(int argc, char** argv) {
       decoded ? total_bytes / 1024.0 / double(decoded) : 0.0, described ? "received" : "missing",
       seconds);
   if (timed_out) {
-    std::fprintf(stderr,
-                 "omnisweep-subscribe: timed out after %.1f s (frames %llu/%llu, statuses %llu/%llu, "
-                 "calibration %s)\n",
-                 timeout_s, static_cast<unsigned long long>(decoded.load()),
-                 static_cast<unsigned long long>(want_frames),
-                 static_cast<unsigned long long>(statuses.load()),
-                 static_cast<unsigned long long>(want_statuses), described ? "received" : "missing");
+    std::fprintf(
+        stderr,
+        "omnisweep-subscribe: timed out after %.1f s (frames %llu/%llu, statuses %llu/%llu, "
+        "calibration %s)\n",
+        timeout_s, static_cast<unsigned long long>(decoded.load()),
+        static_cast<unsigned long long>(want_frames),
+        static_cast<unsigned long long>(statuses.load()),
+        static_cast<unsigned long long>(want_statuses), described ? "received" : "missing");
     return 1;
   }
   return 0;
@@ -198,10 +196,5 @@ int run(int argc, char** argv) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  try {
-    return run(argc, argv);
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "omnisweep-subscribe: %s\n", e.what());
-    return 1;
-  }
+  return omnisweep::tools::run_tool("omnisweep-subscribe", argc, argv, run);
 }

@@ -19,14 +19,8 @@ std::vector<std::string> split(const std::string& s, char separator) {
 
 }  // namespace
 
-std::uint64_t now_ns() {
-  return std::uint64_t(std::chrono::duration_cast<std::chrono::nanoseconds>(
-                           std::chrono::system_clock::now().time_since_epoch())
-                           .count());
-}
-
 void stamp_all_cameras(CapturedFrame& frame, std::vector<CameraStatus>& status) {
-  const std::uint64_t t = now_ns();
+  const std::uint64_t t = wall_clock_ns();
   frame.capture_time_ns.assign(frame.images.size(), t);
   for (auto& s : status) {
     ++s.frames;

@@ -16,6 +16,7 @@
 
 #include "omnisweep/image/image.h"
 #include "omnisweep/rig/rig.h"
+#include "omnisweep/time/clock.h"
 
 namespace omnisweep::capture {
 
@@ -58,8 +59,6 @@ struct SourceOptions {
 // Opens the source named by `spec`; throws SourceError naming what failed (unknown kind,
 // unreadable calibration, a camera that does not open, camera count != calibration).
 std::unique_ptr<FrameSource> open_source(const std::string& spec, const SourceOptions& options);
-
-std::uint64_t now_ns();  // CLOCK_REALTIME
 
 // For sources whose cameras deliver together: every camera captured now, counted as delivering.
 void stamp_all_cameras(CapturedFrame& frame, std::vector<CameraStatus>& status);

@@ -61,7 +61,7 @@ class VideoSource final : public FrameSource {
         grabbed[i] = captures_[i].grab();
       }
     }
-    const std::uint64_t t = now_ns();
+    const std::uint64_t t = wall_clock_ns();
     int delivering = 0;
     for (std::size_t i = 0; i < captures_.size(); ++i) {
       cv::Mat bgr;

@@ -89,7 +89,7 @@ RgbdServer::RgbdServer(std::unique_ptr<capture::FrameSource> source, gpu::Contex
   cameras_ = source_->camera_status();
   msg::StreamDescription& d = stages_->description;
   wire::add_rig(source_->rig(), &d);
-  d.revision(capture::now_ns());
+  d.revision(wall_clock_ns());
   d.references(std::vector<std::int32_t>(options_.depth.references.begin(),
                                          options_.depth.references.end()));
   d.panorama_width(std::uint32_t(options_.panorama_width));
@@ -236,7 +236,7 @@ void RgbdServer::capture_loop() {
 void RgbdServer::depth_loop() {
   while (auto job = stages_->to_depth.pop()) {
     const auto start = Clock::now();
-    (*job)->processing_start_ns = capture::now_ns();
+    (*job)->processing_start_ns = wall_clock_ns();
     const auto images = depth::matching_images((*job)->images, options_.depth);
     depth::DepthResult result = stages_->estimator.estimate(depth::pointers(images));
     (*job)->distance = std::move(result.distance);
@@ -272,7 +272,7 @@ void RgbdServer::encode_loop() {
     m.description_revision(stages_->description.revision());
     m.capture_time_ns(job.capture_time_ns);
     m.processing_start_ns(job.processing_start_ns);
-    m.processing_end_ns(capture::now_ns());
+    m.processing_end_ns(wall_clock_ns());
     m.viewpoint(stages_->description.viewpoint());
     m.width(std::uint32_t(job.panorama.rgb.width()));
     m.height(std::uint32_t(job.panorama.rgb.height()));
@@ -297,7 +297,7 @@ void RgbdServer::encode_loop() {
 void RgbdServer::publish_loop() {
   while (auto item = stages_->to_publish.pop()) {
     const auto start = Clock::now();
-    (*item)->message.publish_time_ns(capture::now_ns());
+    (*item)->message.publish_time_ns(wall_clock_ns());
     publisher_->publish((*item)->message);
     add_stage_time("publish", ms_since(start));
     {
@@ -314,7 +314,7 @@ void RgbdServer::publish_loop() {
 msg::ServerStatus RgbdServer::make_status() {
   static const char* const kStages[] = {"capture", "depth", "stitch", "encode", "publish"};
   msg::ServerStatus s;
-  s.time_ns(capture::now_ns());
+  s.time_ns(wall_clock_ns());
   s.matched_subscribers(publisher_->frame_subscribers());
   const std::lock_guard lock(stats_mutex_);
   s.state(stop_ ? "stopping" : state_);

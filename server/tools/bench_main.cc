@@ -29,7 +29,7 @@
 #include "server/depth/depth_reference.h"
 #include "server/stitch/stitcher.h"
 #include "server/tools/bench_reproject.h"
-#include "server/tools/tool_main.h"
+#include "client_sdk/tools/tool_main.h"
 
 namespace {
 

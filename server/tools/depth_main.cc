@@ -13,7 +13,7 @@
 #include "server/depth/depth_estimator.h"
 #include "server/depth/depth_inputs.h"
 #include "server/tools/depth_flags.h"
-#include "server/tools/tool_main.h"
+#include "client_sdk/tools/tool_main.h"
 
 namespace {
 

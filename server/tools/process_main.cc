@@ -17,7 +17,7 @@
 #include "server/stitch/panorama_metrics.h"
 #include "server/stitch/stitcher.h"
 #include "server/tools/depth_flags.h"
-#include "server/tools/tool_main.h"
+#include "client_sdk/tools/tool_main.h"
 
 namespace {
 

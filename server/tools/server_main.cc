@@ -10,7 +10,7 @@
 #include "server/pipeline/rgbd_server.h"
 #include "server/publish/stream_publisher.h"
 #include "server/tools/depth_flags.h"
-#include "server/tools/tool_main.h"
+#include "client_sdk/tools/tool_main.h"
 
 namespace {
 

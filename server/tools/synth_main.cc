@@ -9,7 +9,7 @@
 #include "omnisweep/image/image_io.h"
 #include "omnisweep/rig/basalt_calibration.h"
 #include "server/synthetic/synthetic_dataset.h"
-#include "server/tools/tool_main.h"
+#include "client_sdk/tools/tool_main.h"
 
 namespace {
 

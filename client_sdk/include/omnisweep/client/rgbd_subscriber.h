@@ -1,0 +1,129 @@
+// The client SDK's subscriber: joins a server's stream (domain, topic prefix, QoS profile),
+// decodes every frame it receives into colour and distance panoramas, and offers them by
+// callback or by polling the latest, with the calibration, the server's status and the
+// connection state. docs/client-sdk.md shows it in use.
+//
+//   client::RgbdSubscriber subscriber({.participant = {.domain = 0}});
+//   if (auto frame = subscriber.wait_for_frame(std::chrono::seconds(5)))
+//     use(frame->colour, frame->distance, frame->stream->rig);
+#pragma once
+
+#include <Eigen/Core>
+#include <chrono>
+#include <condition_variable>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "omnisweep/codec/codec.h"
+#include "omnisweep/dds/stream_subscriber.h"
+#include "omnisweep/image/image.h"
+#include "omnisweep/rig/rig.h"
+
+namespace omnisweep::client {
+
+// The stream description (calibration and stream parameters), decoded.
+struct StreamInfo {
+  std::string topic_prefix;
+  std::uint64_t revision = 0;
+  Rig rig;
+  std::vector<int> references;
+  int panorama_width = 0;
+  int panorama_height = 0;
+  Eigen::Vector3d viewpoint = Eigen::Vector3d::Zero();  // rig frame, metres
+  std::string colour_codec;
+  std::string distance_codec;
+  codec::DistanceParams distance_params;
+  double target_fps = 0;
+};
+
+// One decoded RGB-D frame. Times are wall-clock nanoseconds (omnisweep/time/clock.h).
+struct RgbdFrame {
+  std::uint64_t sequence_number = 0;  // consecutive per server run; gaps are frames lost
+  std::uint64_t description_revision = 0;
+  Rgb8Image colour;                                     // equirectangular, ALGORITHM.md §5
+  FloatImage distance;                                  // metres from the viewpoint, 0 = no value
+  Eigen::Vector3d viewpoint = Eigen::Vector3d::Zero();  // rig frame
+  std::shared_ptr<const StreamInfo> stream;    // the matching description; null until received
+  std::vector<std::uint64_t> capture_time_ns;  // per camera
+  std::uint64_t processing_start_ns = 0;
+  std::uint64_t processing_end_ns = 0;
+  std::uint64_t publish_time_ns = 0;
+  std::uint64_t receive_time_ns = 0;
+  std::uint64_t decoded_time_ns = 0;
+  std::size_t colour_bytes = 0;  // payload sizes as received
+  std::size_t distance_bytes = 0;
+
+  // Capture (the earliest camera) to decoded here, milliseconds.
+  double latency_ms() const;
+};
+
+enum class ConnectionState {
+  kNoServer,   // no server's frame writer is matched
+  kReceiving,  // a frame arrived within SubscriberOptions::stall_after_s
+  kStalled,    // a server is matched but no frame arrived for stall_after_s
+};
+const char* to_string(ConnectionState state);
+
+struct SubscriberOptions {
+  dds::ParticipantOptions participant;
+  std::string profile = "live";  // "live", "reliable" or a data_reader profile of the QoS file
+  double stall_after_s = 2.0;
+};
+
+struct SubscriberStats {
+  std::uint64_t frames_received = 0;
+  std::uint64_t frames_decoded = 0;
+  std::uint64_t decode_errors = 0;  // corrupt or mismatched payloads, dropped
+  std::uint64_t frames_lost = 0;    // gaps in sequence numbers
+  std::uint64_t bytes_received = 0;
+  std::string last_error;
+};
+
+class RgbdSubscriber {
+ public:
+  using FrameCallback = std::function<void(const std::shared_ptr<const RgbdFrame>&)>;
+
+  // Throws dds::DdsError naming what failed (bad option, QoS profile, DDS entity).
+  // `on_frame` runs on Fast DDS's listener thread for every decoded frame.
+  explicit RgbdSubscriber(const SubscriberOptions& options, FrameCallback on_frame = {});
+  ~RgbdSubscriber();
+  RgbdSubscriber(const RgbdSubscriber&) = delete;
+  RgbdSubscriber& operator=(const RgbdSubscriber&) = delete;
+
+  // Polling: the newest decoded frame, or null.
+  std::shared_ptr<const RgbdFrame> latest_frame() const;
+  // Blocks until a frame decoded after this call arrives; null after `timeout`.
+  std::shared_ptr<const RgbdFrame> wait_for_frame(std::chrono::milliseconds timeout) const;
+
+  std::shared_ptr<const StreamInfo> stream_info() const;  // null until received
+  std::optional<msg::ServerStatus> status() const;        // the newest status message
+  ConnectionState state() const;
+  SubscriberStats stats() const;
+  int matched_servers() const;
+
+ private:
+  void on_frame(const msg::RgbdFrame& message);
+  void on_description(const msg::StreamDescription& message);
+
+  SubscriberOptions options_;
+  FrameCallback callback_;
+  mutable std::mutex mutex_;
+  mutable std::condition_variable frame_arrived_;
+  std::shared_ptr<const RgbdFrame> latest_;
+  std::shared_ptr<const StreamInfo> stream_;
+  SubscriberStats stats_;
+  std::uint64_t frame_count_ = 0;
+  std::optional<std::uint64_t> last_sequence_;
+  std::chrono::steady_clock::time_point last_frame_time_;
+  std::unique_ptr<dds::StreamSubscriber> subscriber_;  // last: its callbacks use the above
+};
+
+// The stream description as StreamInfo; throws wire::WireError naming the field at fault.
+StreamInfo stream_info_from(const msg::StreamDescription& description);
+
+}  // namespace omnisweep::client

@@ -1,0 +1,149 @@
+#include "omnisweep/client/rgbd_subscriber.h"
+
+#include <algorithm>
+
+#include "omnisweep/time/clock.h"
+#include "omnisweep/wire/wire.h"
+
+namespace omnisweep::client {
+
+double RgbdFrame::latency_ms() const {
+  if (capture_time_ns.empty()) return 0;
+  const std::uint64_t captured = *std::min_element(capture_time_ns.begin(), capture_time_ns.end());
+  return (double(decoded_time_ns) - double(captured)) * 1e-6;
+}
+
+const char* to_string(ConnectionState state) {
+  switch (state) {
+    case ConnectionState::kNoServer:
+      return "no server";
+    case ConnectionState::kReceiving:
+      return "receiving";
+    case ConnectionState::kStalled:
+      return "stalled";
+  }
+  return "unknown";
+}
+
+StreamInfo stream_info_from(const msg::StreamDescription& d) {
+  StreamInfo info;
+  info.topic_prefix = d.topic_prefix();
+  info.revision = d.revision();
+  info.rig = wire::rig_from_description(d);
+  info.references.assign(d.references().begin(), d.references().end());
+  info.panorama_width = int(d.panorama_width());
+  info.panorama_height = int(d.panorama_height());
+  info.viewpoint = {d.viewpoint().x(), d.viewpoint().y(), d.viewpoint().z()};
+  info.colour_codec = d.color_codec();
+  info.distance_codec = d.distance_codec();
+  info.distance_params = wire::from_message(d.distance_params());
+  info.target_fps = d.target_fps();
+  return info;
+}
+
+RgbdSubscriber::RgbdSubscriber(const SubscriberOptions& options, FrameCallback on_frame)
+    : options_(options), callback_(std::move(on_frame)) {
+  if (!(options.stall_after_s > 0)) throw dds::DdsError("stall_after_s must be positive");
+  dds::StreamCallbacks callbacks;
+  callbacks.frame = [this](const msg::RgbdFrame& m) { this->on_frame(m); };
+  callbacks.description = [this](const msg::StreamDescription& m) { on_description(m); };
+  subscriber_ = std::make_unique<dds::StreamSubscriber>(options.participant, options.profile,
+                                                        std::move(callbacks));
+}
+
+RgbdSubscriber::~RgbdSubscriber() { subscriber_.reset(); }
+
+void RgbdSubscriber::on_description(const msg::StreamDescription& message) {
+  try {
+    auto info = std::make_shared<const StreamInfo>(stream_info_from(message));
+    const std::lock_guard lock(mutex_);
+    stream_ = std::move(info);
+  } catch (const std::exception& e) {
+    const std::lock_guard lock(mutex_);
+    stats_.last_error = std::string("bad stream description: ") + e.what();
+  }
+}
+
+void RgbdSubscriber::on_frame(const msg::RgbdFrame& m) {
+  const std::uint64_t received = wall_clock_ns();
+  const std::size_t bytes = m.color().data().size() + m.distance().data().size();
+  {
+    const std::lock_guard lock(mutex_);
+    ++stats_.frames_received;
+    stats_.bytes_received += bytes;
+    if (last_sequence_ && m.sequence_number() > *last_sequence_ + 1)
+      stats_.frames_lost += m.sequence_number() - *last_sequence_ - 1;
+    last_sequence_ = m.sequence_number();
+    last_frame_time_ = std::chrono::steady_clock::now();
+  }
+  auto frame = std::make_shared<RgbdFrame>();
+  try {
+    wire::DecodedFrame decoded = wire::decode_frame(m);
+    frame->colour = std::move(decoded.rgb);
+    frame->distance = std::move(decoded.distance);
+  } catch (const std::exception& e) {
+    const std::lock_guard lock(mutex_);
+    ++stats_.decode_errors;
+    stats_.last_error = "frame " + std::to_string(m.sequence_number()) + ": " + e.what();
+    return;
+  }
+  frame->sequence_number = m.sequence_number();
+  frame->description_revision = m.description_revision();
+  frame->viewpoint = {m.viewpoint().x(), m.viewpoint().y(), m.viewpoint().z()};
+  frame->capture_time_ns.assign(m.capture_time_ns().begin(), m.capture_time_ns().end());
+  frame->processing_start_ns = m.processing_start_ns();
+  frame->processing_end_ns = m.processing_end_ns();
+  frame->publish_time_ns = m.publish_time_ns();
+  frame->receive_time_ns = received;
+  frame->colour_bytes = m.color().data().size();
+  frame->distance_bytes = m.distance().data().size();
+  frame->decoded_time_ns = wall_clock_ns();
+  {
+    const std::lock_guard lock(mutex_);
+    if (stream_ && stream_->revision == frame->description_revision) frame->stream = stream_;
+    latest_ = frame;
+    ++stats_.frames_decoded;
+    ++frame_count_;
+  }
+  frame_arrived_.notify_all();
+  if (callback_) callback_(frame);
+}
+
+std::shared_ptr<const RgbdFrame> RgbdSubscriber::latest_frame() const {
+  const std::lock_guard lock(mutex_);
+  return latest_;
+}
+
+std::shared_ptr<const RgbdFrame> RgbdSubscriber::wait_for_frame(
+    std::chrono::milliseconds timeout) const {
+  std::unique_lock lock(mutex_);
+  const std::uint64_t seen = frame_count_;
+  if (!frame_arrived_.wait_for(lock, timeout, [&] { return frame_count_ > seen; })) return nullptr;
+  return latest_;
+}
+
+std::shared_ptr<const StreamInfo> RgbdSubscriber::stream_info() const {
+  const std::lock_guard lock(mutex_);
+  return stream_;
+}
+
+std::optional<msg::ServerStatus> RgbdSubscriber::status() const { return subscriber_->status(); }
+
+int RgbdSubscriber::matched_servers() const { return subscriber_->matched_servers(); }
+
+ConnectionState RgbdSubscriber::state() const {
+  const std::lock_guard lock(mutex_);
+  const auto since = std::chrono::steady_clock::now() - last_frame_time_;
+  if (stats_.frames_received > 0 && since < std::chrono::duration<double>(options_.stall_after_s)) {
+    return ConnectionState::kReceiving;
+  }
+  return subscriber_->matched_servers() > 0 ? ConnectionState::kStalled
+                                            : ConnectionState::kNoServer;
+}
+
+SubscriberStats RgbdSubscriber::stats() const {
+  const std::lock_guard lock(mutex_);
+  return stats_;
+}
+
+}  // namespace omnisweep::client
