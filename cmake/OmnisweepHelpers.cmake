@@ -26,13 +26,14 @@ function(omnisweep_add_library NAME)
   add_library(omnisweep::${NAME} ALIAS ${target})
 endfunction()
 
-# omnisweep_add_test(NAME SRCS a_test.cc [DEPS ...] [LABELS ...] [TIMEOUT seconds])
-# One GoogleTest binary; each TEST becomes one ctest entry.
+# omnisweep_add_test(NAME SRCS a_test.cc [DEPS ...] [LABELS ...] [TIMEOUT seconds]
+#                    [PROPERTIES name value ...])
+# One GoogleTest binary; each TEST becomes one ctest entry with the extra PROPERTIES.
 function(omnisweep_add_test NAME)
   if(NOT OMNISWEEP_BUILD_TESTS)
     return()
   endif()
-  cmake_parse_arguments(ARG "" "TIMEOUT" "SRCS;DEPS;LABELS" ${ARGN})
+  cmake_parse_arguments(ARG "" "TIMEOUT" "SRCS;DEPS;LABELS;PROPERTIES" ${ARGN})
   if(NOT ARG_TIMEOUT)
     set(ARG_TIMEOUT 120)
   endif()
@@ -41,10 +42,18 @@ function(omnisweep_add_test NAME)
   set_target_properties(${target} PROPERTIES RUNTIME_OUTPUT_DIRECTORY ${PROJECT_BINARY_DIR}/tests)
   target_compile_options(${target} PRIVATE ${OMNISWEEP_WARNINGS})
   target_link_libraries(${target} PRIVATE ${ARG_DEPS} omnisweep_test_support GTest::gtest GTest::gtest_main)
-  gtest_discover_tests(${target}
-    DISCOVERY_TIMEOUT 60
-    PROPERTIES LABELS "${NAME};${ARG_LABELS}" TIMEOUT ${ARG_TIMEOUT}
-      ENVIRONMENT "OMNISWEEP_SHARED_DIR=${OMNISWEEP_SHARED_DIR};OMNISWEEP_BIN_DIR=${PROJECT_BINARY_DIR}/bin")
+  gtest_discover_tests(${target} DISCOVERY_TIMEOUT 60)
+  # Properties go on in a file ctest includes after the discovered tests: gtest_discover_tests'
+  # own PROPERTIES splits list values (several labels, several environment variables).
+  set(props "LABELS \"${NAME};${ARG_LABELS}\" TIMEOUT ${ARG_TIMEOUT}")
+  string(APPEND props " ENVIRONMENT \"OMNISWEEP_SHARED_DIR=${OMNISWEEP_SHARED_DIR};OMNISWEEP_BIN_DIR=${PROJECT_BINARY_DIR}/bin\"")
+  while(ARG_PROPERTIES)
+    list(POP_FRONT ARG_PROPERTIES key value)
+    string(APPEND props " ${key} \"${value}\"")
+  endwhile()
+  set(file ${CMAKE_CURRENT_BINARY_DIR}/${target}_properties.cmake)
+  file(WRITE ${file} "foreach(t IN LISTS ${target}_TESTS)\n  set_tests_properties(\"\${t}\" PROPERTIES ${props})\nendforeach()\n")
+  set_property(DIRECTORY APPEND PROPERTY TEST_INCLUDE_FILES ${file})
 endfunction()
 
 # omnisweep_add_executable(NAME SRCS main.cc [DEPS ...]) builds build/bin/omnisweep-NAME.

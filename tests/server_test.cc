@@ -13,6 +13,7 @@
 
 #include "omnisweep/codec/codec.h"
 #include "server/synthetic/synthetic_dataset.h"
+#include "tests/support/stream_fixture.h"
 #include "tests/support/test_support.h"
 
 namespace omnisweep {
@@ -23,36 +24,11 @@ using testing::BackgroundProcess;
 using testing::run_command;
 using testing::ScratchDir;
 
-const std::string kSmall =
-    " --matching-resolution 128 128 --panorama-resolution 256 128 --candidates 16 --fps 5"
-    " --log-interval 0";
-
-// A small synthetic dataset (3 frames of 160x160 fisheyes), a topic prefix and a DDS domain of
-// this process's own, so tests running side by side never see each other's streams.
-class ServerTest : public ::testing::Test {
+class ServerTest : public testing::StreamTest {
  protected:
-  void SetUp() override {
-    synthetic::SyntheticRigOptions options;
-    options.image_size = 160;
-    const synthetic::SyntheticRig rig(options);
-    synthetic::write_synthetic_dataset(rig, dir_.path() / "data",
-                                       {.first_frame = 0, .num_frames = 3, .panorama_width = 64,
-                                        .panorama_height = 32});
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    network_ = " --domain " + std::to_string(1 + getpid() % 200) + " --topic-prefix test" +
-               std::to_string(getpid()) + "/" + info->name();
-  }
-
-  std::string server_command(const std::string& extra = "") const {
-    return (testing::bin_dir() / "omnisweep-server").string() + " --source dataset:" +
-           (dir_.path() / "data").string() + kSmall + network_ + extra;
-  }
   std::string subscribe_command(const std::string& extra) const {
-    return (testing::bin_dir() / "omnisweep-subscribe").string() + network_ + extra;
+    return tool_command("subscribe", extra);
   }
-
-  ScratchDir dir_;
-  std::string network_;
 };
 
 std::vector<float> read_floats(const fs::path& path) {
@@ -177,8 +153,7 @@ TEST_F(ServerTest, BadInputGivesAClearErrorAndNonZeroExit) {
        "camera 0 (video /nonexistent/a.mp4) does not open"},
       {" --topic-prefix 'bad prefix'", "topic prefix"},
       {" --domain 300", "--domain"},
-      {" --source dataset:" + (dir_.path() / "data").string() + " --references 2 9",
-       "reference"},
+      {" --source dataset:" + (dir_.path() / "data").string() + " --references 2 9", "reference"},
   };
   for (const Case& c : cases) {
     std::string out;

@@ -15,6 +15,7 @@
 #include <mutex>
 #include <thread>
 
+#include "client_sdk/tools/dds_flags.h"
 #include "client_sdk/tools/tool_main.h"
 #include "omnisweep/dds/stream_subscriber.h"
 #include "omnisweep/time/clock.h"
@@ -42,10 +43,7 @@ int run(int argc, char** argv) {
   std::uint64_t want_frames = 0, want_statuses = 0;
   bool want_description = false, quiet = false;
   double timeout_s = 60;
-  app.add_option("--domain", options.domain, "DDS domain id")->check(CLI::Range(0, 232));
-  app.add_option("--topic-prefix", options.topic_prefix, "Topic prefix of the server");
-  app.add_option("--qos", options.qos_file, "Fast DDS XML profile file (default: built in)")
-      ->check(CLI::ExistingFile);
+  tools::add_dds_flags(app, options);
   app.add_option("--profile", profile, "Frame QoS: live (newest frames) or reliable (every frame)");
   app.add_option("--frames", want_frames, "Exit 0 after this many decoded frames");
   app.add_option("--statuses", want_statuses, "Exit 0 after this many status messages");

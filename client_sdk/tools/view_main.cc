@@ -15,6 +15,7 @@
 #include <numbers>
 #include <thread>
 
+#include "client_sdk/tools/dds_flags.h"
 #include "client_sdk/tools/tool_main.h"
 #include "omnisweep/client/rgbd_subscriber.h"
 #include "omnisweep/gpu/context.h"
@@ -118,12 +119,7 @@ int run(int argc, char** argv) {
   std::string output = ".", vk_device;
   std::uint64_t want_frames = 0;
   double timeout_s = 60, write_interval_s = 5;
-  app.add_option("--domain", options.participant.domain, "DDS domain id")
-      ->check(CLI::Range(0, 232));
-  app.add_option("--topic-prefix", options.participant.topic_prefix, "Topic prefix of the server");
-  app.add_option("--qos", options.participant.qos_file,
-                 "Fast DDS XML profile file (default: built in)")
-      ->check(CLI::ExistingFile);
+  tools::add_dds_flags(app, options.participant);
   app.add_option("--profile", options.profile, "Frame QoS: live or reliable");
   app.add_option("--frames", want_frames,
                  "Exit 0 after this many frames (default: run until Ctrl-C)");

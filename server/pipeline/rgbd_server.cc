@@ -78,7 +78,7 @@ struct RgbdServer::Stages {
 };
 
 RgbdServer::RgbdServer(std::unique_ptr<capture::FrameSource> source, gpu::Context& context,
-                       publish::StreamPublisher& publisher, const ServerOptions& options)
+                       dds::StreamPublisher& publisher, const ServerOptions& options)
     : source_(std::move(source)), context_(&context), publisher_(&publisher), options_(options) {
   options_.check();
   options_.depth.check(source_->rig().num_cameras());

@@ -19,7 +19,7 @@
 #include "omnisweep/gpu/context.h"
 #include "server/capture/frame_source.h"
 #include "server/depth/depth_options.h"
-#include "server/publish/stream_publisher.h"
+#include "omnisweep/dds/stream_publisher.h"
 #include "server/stitch/stitcher.h"
 
 namespace omnisweep::pipeline {
@@ -44,7 +44,7 @@ struct ServerOptions {
 class RgbdServer {
  public:
   RgbdServer(std::unique_ptr<capture::FrameSource> source, gpu::Context& context,
-             publish::StreamPublisher& publisher, const ServerOptions& options);
+             dds::StreamPublisher& publisher, const ServerOptions& options);
   ~RgbdServer();  // stops and joins
   RgbdServer(const RgbdServer&) = delete;
   RgbdServer& operator=(const RgbdServer&) = delete;
@@ -76,7 +76,7 @@ class RgbdServer {
 
   std::unique_ptr<capture::FrameSource> source_;
   gpu::Context* context_;
-  publish::StreamPublisher* publisher_;
+  dds::StreamPublisher* publisher_;
   ServerOptions options_;
   struct Stages;
   std::unique_ptr<Stages> stages_;

@@ -6,11 +6,12 @@
 #include <cstdio>
 #include <ctime>
 
+#include "client_sdk/tools/dds_flags.h"
+#include "client_sdk/tools/tool_main.h"
+#include "omnisweep/dds/stream_publisher.h"
 #include "server/capture/frame_source.h"
 #include "server/pipeline/rgbd_server.h"
-#include "server/publish/stream_publisher.h"
 #include "server/tools/depth_flags.h"
-#include "client_sdk/tools/tool_main.h"
 
 namespace {
 
@@ -66,12 +67,7 @@ int run(int argc, char** argv) {
                "Light setting for slow links: distance at 1/4 resolution over 2048 levels, JPEG "
                "quality 60 (about 170-225 KB per 2048x1024 frame)");
   tools::add_depth_flags(app, options.depth, device);
-  app.add_option("--domain", dds_options.domain, "DDS domain id")->check(CLI::Range(0, 232));
-  app.add_option("--topic-prefix", dds_options.topic_prefix,
-                 "Topics are <prefix>/description, <prefix>/rgbd, <prefix>/status");
-  app.add_option("--qos", dds_options.qos_file,
-                 "Fast DDS XML profile file (default: deploy/qos/omnisweep_qos.xml, built in)")
-      ->check(CLI::ExistingFile);
+  tools::add_dds_flags(app, dds_options, "Topic prefix (several rigs on one network)");
   app.add_option("--frame-profile", frame_profile,
                  "data_writer profile of the frame topic (default omnisweep_frames)");
   app.add_option("--frames", options.max_frames, "Stop after publishing N frames (0: run on)");
@@ -84,7 +80,8 @@ int run(int argc, char** argv) {
   options.panorama_width = panorama[0];
   options.panorama_height = panorama[1];
   if (!rgb_resolution.empty()) options.rgb_resolution = {rgb_resolution[0], rgb_resolution[1]};
-  if (!viewpoint.empty()) options.viewpoint = Eigen::Vector3d(viewpoint[0], viewpoint[1], viewpoint[2]);
+  if (!viewpoint.empty())
+    options.viewpoint = Eigen::Vector3d(viewpoint[0], viewpoint[1], viewpoint[2]);
   if (light) {
     options.distance.levels = codec::kLightDistance.levels;
     options.distance.downsample = codec::kLightDistance.downsample;
@@ -102,7 +99,7 @@ int run(int argc, char** argv) {
   auto source = capture::open_source(source_spec, source_options);
   std::fprintf(stderr, "omnisweep-server: source: %s\n", source->description().c_str());
   gpu::Context context(tools::context_options(device));
-  auto publisher = std::make_unique<publish::StreamPublisher>(dds_options, frame_profile);
+  auto publisher = std::make_unique<dds::StreamPublisher>(dds_options, frame_profile);
   auto server =
       std::make_unique<pipeline::RgbdServer>(std::move(source), context, *publisher, options);
   std::fprintf(stderr,

@@ -7,13 +7,13 @@
 
 #include <array>
 #include <chrono>
-#include <thread>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
 #include <random>
 #include <sstream>
 #include <stdexcept>
+#include <thread>
 
 extern char** environ;
 
@@ -40,6 +40,10 @@ fs::path kaist_rig_dir() {
 }
 
 fs::path bin_dir() { return from_env("OMNISWEEP_BIN_DIR", OMNISWEEP_DEFAULT_BIN_DIR); }
+
+fs::path mcap_node_dir() {
+  return from_env("OMNISWEEP_MCAP_NODE_DIR", OMNISWEEP_DEFAULT_MCAP_NODE_DIR);
+}
 
 ScratchDir::ScratchDir(const std::string& prefix) {
   std::random_device rd;
@@ -73,8 +77,7 @@ int run_command(const std::string& command, std::string* output) {
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
-BackgroundProcess::BackgroundProcess(const std::string& command,
-                                     const std::filesystem::path& log)
+BackgroundProcess::BackgroundProcess(const std::string& command, const std::filesystem::path& log)
     : log_(log) {
   const std::string shell = "exec " + command + " > '" + log.string() + "' 2>&1";
   const char* argv[] = {"/bin/sh", "-c", shell.c_str(), nullptr};

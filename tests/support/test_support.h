@@ -12,6 +12,8 @@ std::filesystem::path shared_dir();
 std::filesystem::path kaist_rig_dir();
 // build/bin, where the omnisweep-* programs are (OMNISWEEP_BIN_DIR, set by ctest).
 std::filesystem::path bin_dir();
+// Where tests/mcap is installed with npm ci (the mcap_node_setup test), for node scripts.
+std::filesystem::path mcap_node_dir();
 
 // A fresh, empty folder removed again when the object goes away.
 class ScratchDir {

@@ -1,4 +1,4 @@
-// The server's DDS endpoint: one writer per topic of the stream (docs/wire-format.md), QoS from
+// A stream's publishing end (the server, omnisweep-play): one writer per topic of the stream (docs/wire-format.md), QoS from
 // the XML profiles (deploy/qos/omnisweep_qos.xml).
 #pragma once
 
@@ -13,7 +13,7 @@ namespace eprosima::fastdds::dds {
 class DataWriter;
 }  // namespace eprosima::fastdds::dds
 
-namespace omnisweep::publish {
+namespace omnisweep::dds {
 
 class StreamPublisher {
  public:
@@ -40,4 +40,4 @@ class StreamPublisher {
   eprosima::fastdds::dds::DataWriter* writers_[3] = {nullptr, nullptr, nullptr};
 };
 
-}  // namespace omnisweep::publish
+}  // namespace omnisweep::dds

@@ -1,4 +1,4 @@
-#include "server/publish/stream_publisher.h"
+#include "omnisweep/dds/stream_publisher.h"
 
 #include <fastdds/dds/publisher/DataWriter.hpp>
 #include <fastdds/dds/publisher/DataWriterListener.hpp>
@@ -6,7 +6,7 @@
 #include <fastdds/dds/publisher/qos/DataWriterQos.hpp>
 #include <fastdds/dds/topic/Topic.hpp>
 
-namespace omnisweep::publish {
+namespace omnisweep::dds {
 namespace fdds = eprosima::fastdds::dds;
 using ReturnCode_t = eprosima::fastrtps::types::ReturnCode_t;
 
@@ -73,4 +73,4 @@ void StreamPublisher::publish(msg::ServerStatus& status) {
     throw dds::DdsError("writing the server status failed");
 }
 
-}  // namespace omnisweep::publish
+}  // namespace omnisweep::dds

@@ -1,0 +1,143 @@
+// omnisweep-play: republishes an MCAP recording of omnisweep-record on DDS with its original
+// timing (--rate faster or slower, --loop to repeat), to the recorded topic prefix or
+// --topic-prefix. --list prints the channels and message counts instead. Frames keep their
+// recorded sequence numbers and timestamps.
+#include <CLI/CLI.hpp>
+#include <atomic>
+#include <chrono>
+#include <csignal>
+#include <cstdio>
+#include <thread>
+
+#include "client_sdk/tools/dds_flags.h"
+#include "client_sdk/tools/tool_main.h"
+#include "omnisweep/dds/stream_publisher.h"
+#include "omnisweep/record/stream_recording.h"
+
+namespace {
+
+using namespace omnisweep;
+using Clock = std::chrono::steady_clock;
+
+std::atomic<bool> g_stop{false};
+void on_signal(int) { g_stop = true; }
+
+int list(const std::string& file) {
+  record::McapReader reader(file);
+  const record::McapReadSummary summary =
+      reader.read([](const record::McapMessage&) { return true; });
+  std::printf("%s: %llu messages in %llu chunks, %s\n", file.c_str(),
+              static_cast<unsigned long long>(summary.messages),
+              static_cast<unsigned long long>(summary.chunks),
+              summary.complete    ? "complete"
+              : summary.truncated ? "cut short (no summary)"
+                                  : "no summary");
+  for (const auto& [id, channel] : reader.channels()) {
+    const auto n = summary.channel_messages.count(id) ? summary.channel_messages.at(id) : 0;
+    const auto schema = reader.schemas().find(channel.schema_id);
+    std::printf("  channel %u %s (%s, %s): %llu messages\n", unsigned(id), channel.topic.c_str(),
+                schema == reader.schemas().end() ? "no schema" : schema->second.name.c_str(),
+                channel.message_encoding.c_str(), static_cast<unsigned long long>(n));
+  }
+  return 0;
+}
+
+int run(int argc, char** argv) {
+  CLI::App app{"Republish an omnisweep MCAP recording on DDS."};
+  std::string file, frame_profile = "omnisweep_frames";
+  dds::ParticipantOptions options;
+  options.name = "omnisweep-play";
+  options.topic_prefix.clear();
+  double rate = 1.0, wait_timeout_s = 10;
+  bool loop = false, list_only = false;
+  int wait_for = 0;
+  app.add_option("file", file, "MCAP file written by omnisweep-record")
+      ->required()
+      ->check(CLI::ExistingFile);
+  tools::add_dds_flags(app, options, "Topic prefix (default: the recorded one)");
+  app.add_option("--frame-profile", frame_profile, "data_writer QoS profile of the frame topic");
+  app.add_option("--rate", rate, "Playback speed (2 = twice as fast)")
+      ->check(CLI::Range(0.01, 1000.0));
+  app.add_flag("--loop", loop, "Start again at the end");
+  app.add_option("--wait-for-subscribers", wait_for, "Wait for this many frame subscribers first")
+      ->check(CLI::Range(0, 1000));
+  app.add_option("--wait-timeout", wait_timeout_s, "Give up waiting for subscribers after this (s)")
+      ->check(CLI::Range(0.1, 1e6));
+  app.add_flag("--list", list_only, "Print the channels and message counts, then exit");
+  CLI11_PARSE(app, argc, argv);
+  if (list_only) return list(file);
+  std::signal(SIGINT, on_signal);
+  std::signal(SIGTERM, on_signal);
+
+  record::McapReader reader(file);
+  if (options.topic_prefix.empty()) {  // the recorded prefix: read the channels first
+    reader.read([](const record::McapMessage&) { return false; });
+    for (const auto& [id, channel] : reader.channels())
+      if (record::recorded_topic(reader, channel))
+        options.topic_prefix = record::recorded_prefix(channel);
+    if (options.topic_prefix.empty())
+      throw std::runtime_error(file + " holds no omnisweep channel");
+  }
+  options.check();
+  dds::StreamPublisher publisher(options, frame_profile);
+  if (wait_for > 0) {
+    const auto deadline = Clock::now() + std::chrono::duration<double>(wait_timeout_s);
+    while (publisher.frame_subscribers() < wait_for && Clock::now() < deadline && !g_stop)
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    if (publisher.frame_subscribers() < wait_for) {
+      std::fprintf(stderr, "omnisweep-play: %d of %d subscribers after %.1f s\n",
+                   publisher.frame_subscribers(), wait_for, wait_timeout_s);
+      return 1;
+    }
+  }
+  std::printf("omnisweep-play: %s to %s/* on domain %d at %.2fx\n", file.c_str(),
+              options.topic_prefix.c_str(), options.domain, rate);
+  std::fflush(stdout);
+
+  std::uint64_t frames = 0;
+  do {
+    const Clock::time_point start = Clock::now();
+    std::uint64_t first_log = 0;
+    bool first = true;
+    msg::StreamDescription description;
+    msg::RgbdFrame frame;
+    msg::ServerStatus status;
+    const record::McapReadSummary summary = reader.read([&](const record::McapMessage& m) {
+      const auto kind = record::recorded_topic(reader, *m.channel);
+      if (!kind) return true;
+      if (first) first_log = m.log_time_ns, first = false;
+      const auto due =
+          start + std::chrono::nanoseconds(std::int64_t(double(m.log_time_ns - first_log) / rate));
+      while (Clock::now() < due && !g_stop)
+        std::this_thread::sleep_until(std::min(due, Clock::now() + std::chrono::milliseconds(50)));
+      if (g_stop) return false;
+      if (*kind == dds::TopicKind::kDescription) {
+        record::decode_message(m.data, description);
+        description.topic_prefix(options.topic_prefix);
+        publisher.publish(description);
+      } else if (*kind == dds::TopicKind::kFrames) {
+        record::decode_message(m.data, frame);
+        publisher.publish(frame);
+        ++frames;
+      } else {
+        record::decode_message(m.data, status);
+        publisher.publish(status);
+      }
+      return true;
+    });
+    if (summary.truncated)
+      std::printf(
+          "omnisweep-play: the recording was cut short; played its %llu complete messages\n",
+          static_cast<unsigned long long>(summary.messages));
+  } while (loop && !g_stop);
+  // Let reliable readers fetch the last samples before the writers go away.
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  std::printf("summary: %llu frames published\n", static_cast<unsigned long long>(frames));
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  return omnisweep::tools::run_tool("omnisweep-play", argc, argv, run);
+}
