@@ -2,8 +2,8 @@
 // server to decoded here) and bitrate each second, and writes the latest frame as PNGs into
 // --output: panorama.png (colour), panorama_inverse_distance.png (turbo colour map),
 // view.png and view_inverse_distance.png (a novel pinhole view rendered on the GPU from
-// --viewpoint / --yaw / --pitch / --pinhole). With --frames N it exits 0 after N frames, or 1
-// when they have not arrived within --timeout.
+// --viewpoint / --offset / --yaw / --pitch / --pinhole). With --frames N it exits 0 after N frames,
+// or 1 when they have not arrived within --timeout.
 #include <CLI/CLI.hpp>
 #include <atomic>
 #include <chrono>
@@ -31,7 +31,8 @@ std::atomic<bool> g_stop{false};
 void on_signal(int) { g_stop = true; }
 
 struct ViewOptions {
-  std::vector<double> viewpoint;  // rig frame; empty: the panorama's own viewpoint
+  std::vector<double> viewpoint;           // rig frame; empty: the panorama's own viewpoint
+  std::vector<double> offset = {0, 0, 0};  // added to the viewpoint
   double yaw_deg = 0, pitch_deg = 0;
   std::vector<double> pinhole = {1024, 768, 90};  // W H FOV
 };
@@ -58,8 +59,9 @@ Rigid3d view_pose(const ViewOptions& v, const client::RgbdFrame& frame) {
       Eigen::Quaterniond(Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitY())) *
       Eigen::Quaterniond(Eigen::AngleAxisd(pitch, Eigen::Vector3d::UnitX()));
   const Eigen::Vector3d position =
-      v.viewpoint.empty() ? frame.viewpoint
-                          : Eigen::Vector3d(v.viewpoint[0], v.viewpoint[1], v.viewpoint[2]);
+      (v.viewpoint.empty() ? frame.viewpoint
+                           : Eigen::Vector3d(v.viewpoint[0], v.viewpoint[1], v.viewpoint[2])) +
+      Eigen::Vector3d(v.offset[0], v.offset[1], v.offset[2]);
   return Rigid3d(rotation, position);
 }
 
@@ -131,6 +133,8 @@ int run(int argc, char** argv) {
                  "Seconds between image writes while running (0: only at the end)")
       ->check(CLI::Range(0.0, 1e6));
   app.add_option("--viewpoint", view.viewpoint, "Novel view position X Y Z in the rig frame (m)")
+      ->expected(3);
+  app.add_option("--offset", view.offset, "Novel view offset DX DY DZ from that position (m)")
       ->expected(3);
   app.add_option("--yaw", view.yaw_deg, "Novel view yaw, degrees (positive turns right)");
   app.add_option("--pitch", view.pitch_deg, "Novel view pitch, degrees (positive looks up)")

@@ -11,7 +11,8 @@
 #include <stdexcept>
 #include <string>
 #include <vector>
-#include <vulkan/vulkan_raii.hpp>
+
+#include "omnisweep/gpu/vulkan.h"
 
 namespace omnisweep::gpu {
 
