@@ -12,10 +12,14 @@ layout(local_size_x_id = 100, local_size_y_id = 101, local_size_z_id = 102) in;
 layout(std430, set = 0, binding = 0) readonly buffer Directions { Direction directions[]; };
 layout(std430, set = 0, binding = 1) readonly buffer Source { uint source[]; };
 layout(std430, set = 0, binding = 2) writeonly buffer Destination { uint destination[]; };
+// filled[pass] becomes 1 when this pass filled any pixel; a pass that fills none has reached the
+// fixed point, so the caller may stop (Reprojector does; the stitcher runs a fixed count).
+layout(std430, set = 0, binding = 3) buffer Filled { uint filled[]; };
 layout(push_constant) uniform Push {
   uint width;
   uint height;
   uint wrap_x;
+  uint pass;
 } push;
 
 void main() {
@@ -39,5 +43,10 @@ void main() {
     sum += w * unpack_rgb(value);
     total += w;
   }
-  destination[index] = total > 0.0 ? pack_rgb(uvec3(clamp(sum / total + 0.5, 0.0, 255.0))) | 0xff000000u : 0u;
+  if (total > 0.0) {
+    destination[index] = pack_rgb(uvec3(clamp(sum / total + 0.5, 0.0, 255.0))) | 0xff000000u;
+    filled[push.pass] = 1u;
+  } else {
+    destination[index] = 0u;
+  }
 }

@@ -1,8 +1,8 @@
 // omnisweep-bench: GPU time per depth stage at several matching resolutions, and the ISB filter
 // side by side with OpenCV's guided filter, fast bilateral solver and box filter on one
 // synthetic cost volume (the paper's Table 2 on this machine), the codecs against 16-bit PNG,
-// and novel-view reprojection (bench_reproject.cc). A benchmark, not a test: it
-// prints what it measured.
+// novel-view reprojection (bench_reproject.cc) and MCAP recording (bench_record.cc). A benchmark,
+// not a test: it prints what it measured.
 #include <fcntl.h>
 #include <unistd.h>
 
@@ -19,6 +19,7 @@
 #include <string>
 #include <vector>
 
+#include "client_sdk/tools/tool_main.h"
 #include "omnisweep/codec/codec.h"
 #include "omnisweep/dataset/dataset.h"
 #include "omnisweep/gpu/context.h"
@@ -28,8 +29,8 @@
 #include "server/depth/depth_inputs.h"
 #include "server/depth/depth_reference.h"
 #include "server/stitch/stitcher.h"
+#include "server/tools/bench_record.h"
 #include "server/tools/bench_reproject.h"
-#include "client_sdk/tools/tool_main.h"
 
 namespace {
 
@@ -268,7 +269,6 @@ void stage_section(gpu::Context& context, const std::vector<int>& resolutions, i
     row("memory MiB", [&](int s) { return memory_mib[s]; });
     std::printf("(pixels grow 4x per step: linear time means a ratio near 4)\n\n");
   }
-
 }
 
 // 2. The filters side by side on one raw cost volume (reference 2, synthetic frame 0).
@@ -393,7 +393,7 @@ int run(int argc, char** argv) {
   std::vector<int> resolutions = {256, 512, 1024};
   int filter_resolution = 1024, iterations = 3;
   bool json = false, skip_fbs = false;
-  std::vector<std::string> sections = {"stages", "filters", "codecs", "reproject"};
+  std::vector<std::string> sections = {"stages", "filters", "codecs", "reproject", "record"};
   std::string kaist_dir;
   if (const char* shared = std::getenv("OMNISWEEP_SHARED_DIR"))
     kaist_dir = std::string(shared) + "/data/kaist-rig";
@@ -411,8 +411,9 @@ int run(int argc, char** argv) {
       "Vulkan device: index or name substring (default: OMNISWEEP_VK_DEVICE, else the best)");
   app.add_flag("--json", json, "One JSON object per row instead of tables");
   app.add_flag("--skip-fbs", skip_fbs, "Leave out the (slow) fast bilateral solver");
-  app.add_option("--sections", sections, "What to measure: stages, filters, codecs, reproject (default: all)")
-      ->check(CLI::IsMember({"stages", "filters", "codecs", "reproject"}))
+  app.add_option("--sections", sections,
+                 "What to measure: stages, filters, codecs, reproject, record (default: all)")
+      ->check(CLI::IsMember({"stages", "filters", "codecs", "reproject", "record"}))
       ->delimiter(',');
   app.add_option("--kaist", kaist_dir,
                  "kaist-rig dataset for the codec comparison (default ../shared/data/kaist-rig)");
@@ -433,6 +434,7 @@ int run(int argc, char** argv) {
   if (want("filters")) filter_section(context, filter_resolution, iterations, skip_fbs, json);
   if (want("codecs")) codec_section(context, kaist_dir, json);
   if (want("reproject")) tools::reproject_section(context, iterations, json);
+  if (want("record")) tools::record_section(json);
   return 0;
 }
 

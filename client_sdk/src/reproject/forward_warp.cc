@@ -8,8 +8,10 @@ namespace {
 
 constexpr std::uint32_t kEmpty = 0xffffffffu;
 
+constexpr int kMaxPasses = 1024;
+
 struct InpaintPush {
-  std::uint32_t width, height, wrap_x;
+  std::uint32_t width, height, wrap_x, pass;
 };
 
 std::uint64_t pixels(const GpuCamera& c) { return std::uint64_t(c.width) * c.height; }
@@ -24,18 +26,22 @@ ForwardWarper::ForwardWarper(gpu::Context& context, const GpuCamera& source,
       cameras_(context, 2 * sizeof(GpuCamera)),
       directions_(context, pixels(target) * 16),
       buffers_{gpu::Buffer(context, pixels(target) * 4), gpu::Buffer(context, pixels(target) * 4)},
+      filled_(context, kMaxPasses * 4),
       warp_(context, "forward_warp", {.bindings = {1, 1, 1}, .push_constant_bytes = 4}),
       directions_kernel_(context, "inpaint_directions",
                          {.bindings = {1, 1}, .push_constant_bytes = 8}),
       inpaint_(context, "directional_inpaint",
-               {.bindings = {1, 1, 1}, .push_constant_bytes = sizeof(InpaintPush)}) {
+               {.bindings = {1, 1, 1, 1}, .push_constant_bytes = sizeof(InpaintPush)}) {
   if (source.width == 0 || target.width == 0)
     throw std::invalid_argument("forward warp: empty source or target");
   if (!(options.min_distance > 0) || !(options.max_distance > options.min_distance) ||
-      options.inpaint_passes < 0 || !(options.max_splat >= 1.0) ||
+      options.inpaint_passes < 0 || options.inpaint_passes > kMaxPasses ||
+      !(options.max_splat >= 1.0) ||
       !(options.occlusion_tolerance >= 0 && options.occlusion_tolerance < 1)) {
     throw std::invalid_argument(
-        "forward warp: need 0 < min distance < max distance, inpaint passes >= 0, max splat >= 1 "
+        "forward warp: need 0 < min distance < max distance, inpaint passes in [0, 1024], max "
+        "splat "
+        ">= 1 "
         "and 0 <= occlusion tolerance < 1");
   }
   if (options.colour) {
@@ -46,7 +52,7 @@ ForwardWarper::ForwardWarper(gpu::Context& context, const GpuCamera& source,
         gpu::KernelLayout{.bindings = {1, 1, 1, 1, 1}, .push_constant_bytes = 4});
     inpaint_colour_.emplace(
         context, "directional_inpaint_colour",
-        gpu::KernelLayout{.bindings = {1, 1, 1}, .push_constant_bytes = sizeof(InpaintPush)});
+        gpu::KernelLayout{.bindings = {1, 1, 1, 1}, .push_constant_bytes = sizeof(InpaintPush)});
   }
   set_target(target);
 }
@@ -61,21 +67,23 @@ void ForwardWarper::set_target(const GpuCamera& target) {
 }
 
 void ForwardWarper::set_inpaint_passes(int passes) {
-  if (passes < 0) throw std::invalid_argument("forward warp: inpaint passes must be >= 0");
+  if (passes < 0 || passes > kMaxPasses)
+    throw std::invalid_argument("forward warp: inpaint passes must lie in [0, 1024]");
   options_.inpaint_passes = passes;
 }
 
 void ForwardWarper::record_inpaint(gpu::Sequence& seq, const gpu::Kernel& kernel,
-                                   gpu::Buffer* buffers) const {
-  const InpaintPush push{target_.width, target_.height, target_.model == 4 ? 1u : 0u};
-  for (int pass = 0; pass < options_.inpaint_passes; ++pass) {
-    seq.dispatch(kernel, {directions_, buffers[pass % 2], buffers[(pass + 1) % 2]}, push,
+                                   gpu::Buffer* buffers, int first_pass, int passes) const {
+  for (int pass = first_pass; pass < first_pass + passes; ++pass) {
+    const InpaintPush push{target_.width, target_.height, target_.model == 4 ? 1u : 0u,
+                           std::uint32_t(pass)};
+    seq.dispatch(kernel, {directions_, buffers[pass % 2], buffers[(pass + 1) % 2], filled_}, push,
                  kernel.groups_for(target_.width, target_.height));
     seq.barrier();
   }
 }
 
-void ForwardWarper::record(gpu::Sequence& seq, const gpu::Buffer& distance) {
+void ForwardWarper::record_warp(gpu::Sequence& seq, const gpu::Buffer& distance) {
   if (distance.size() < pixels(source_) * 4) {
     throw std::invalid_argument(
         "forward warp: the distance buffer holds fewer than the source's pixels");
@@ -92,23 +100,70 @@ void ForwardWarper::record(gpu::Sequence& seq, const gpu::Buffer& distance) {
   seq.dispatch(warp_, {cameras_, distance, buffers_[0]}, splat,
                warp_.groups_for(source_.width, source_.height));
   seq.barrier();
-  record_inpaint(seq, inpaint_, buffers_);
 }
 
-void ForwardWarper::record_colour(gpu::Sequence& seq, const gpu::Buffer& distance,
-                                  const gpu::Buffer& source_colour) {
-  if (!options_.colour)
-    throw std::logic_error("forward warp: record_colour needs WarpOptions::colour");
+void ForwardWarper::record(gpu::Sequence& seq, const gpu::Buffer& distance) {
+  record_warp(seq, distance);
+  record_inpaint(seq, inpaint_, buffers_, 0, options_.inpaint_passes);
+  passes_done_ = options_.inpaint_passes;
+}
+
+int ForwardWarper::run_until_filled(gpu::Sequence& seq, const gpu::Kernel& kernel,
+                                    gpu::Buffer* buffers, int max_passes, int batch,
+                                    double* gpu_ms) {
+  if (max_passes < 0 || max_passes > kMaxPasses || batch < 1)
+    throw std::invalid_argument("forward warp: need max passes in [0, 1024] and batch >= 1");
+  seq.fill(filled_, 0);
+  seq.barrier();
+  int done = 0;
+  for (;;) {
+    const int n = std::min(batch, max_passes - done);
+    record_inpaint(seq, kernel, buffers, done, n);
+    seq.submit_and_wait();
+    for (const auto& [stage, ms] : seq.stage_ms()) *gpu_ms += ms;
+    done += n;
+    if (done >= max_passes) return done;
+    std::uint32_t last = 1;
+    filled_.download(&last, 4, std::size_t(done - 1) * 4);
+    if (last == 0) return done;  // a pass that filled nothing: every later one would copy
+    seq.begin();
+    seq.begin_stage("inpaint");
+  }
+}
+
+int ForwardWarper::inpaint_until_filled(gpu::Sequence& seq, int max_passes, int batch,
+                                        double* gpu_ms) {
+  passes_done_ = run_until_filled(seq, inpaint_, buffers_, max_passes, batch, gpu_ms);
+  return passes_done_;
+}
+
+void ForwardWarper::record_colour_sample(gpu::Sequence& seq, const gpu::Buffer& distance,
+                                         const gpu::Buffer& source_colour) {
+  if (!options_.colour) throw std::logic_error("forward warp: colour needs WarpOptions::colour");
   if (source_colour.size() < pixels(source_) * 4 || distance.size() < pixels(source_) * 4)
     throw std::invalid_argument("forward warp: a source buffer holds fewer than its pixels");
   const float tolerance = float(options_.occlusion_tolerance);
   seq.dispatch(*sample_colour_, {cameras_, result(), distance, source_colour, colour_buffers_[0]},
                tolerance, sample_colour_->groups_for(target_.width, target_.height));
   seq.barrier();
-  record_inpaint(seq, *inpaint_colour_, colour_buffers_.data());
 }
 
-const gpu::Buffer& ForwardWarper::result() const { return buffers_[options_.inpaint_passes % 2]; }
+void ForwardWarper::record_colour(gpu::Sequence& seq, const gpu::Buffer& distance,
+                                  const gpu::Buffer& source_colour) {
+  record_colour_sample(seq, distance, source_colour);
+  record_inpaint(seq, *inpaint_colour_, colour_buffers_.data(), 0, options_.inpaint_passes);
+  colour_passes_done_ = options_.inpaint_passes;
+}
+
+int ForwardWarper::inpaint_colour_until_filled(gpu::Sequence& seq, int max_passes, int batch,
+                                               double* gpu_ms) {
+  if (!options_.colour) throw std::logic_error("forward warp: colour needs WarpOptions::colour");
+  colour_passes_done_ =
+      run_until_filled(seq, *inpaint_colour_, colour_buffers_.data(), max_passes, batch, gpu_ms);
+  return colour_passes_done_;
+}
+
+const gpu::Buffer& ForwardWarper::result() const { return buffers_[passes_done_ % 2]; }
 
 FloatImage ForwardWarper::download() const {
   const std::vector<std::uint32_t> bits = result().download<std::uint32_t>();
@@ -123,7 +178,7 @@ Rgb8Image ForwardWarper::download_colour() const {
   if (!options_.colour)
     throw std::logic_error("forward warp: download_colour needs WarpOptions::colour");
   const std::vector<std::uint32_t> packed =
-      colour_buffers_[options_.inpaint_passes % 2].download<std::uint32_t>();
+      colour_buffers_[colour_passes_done_ % 2].download<std::uint32_t>();
   Rgb8Image out(int(target_.width), int(target_.height), 3, 0);
   std::uint8_t* rgb = out.data();
   for (std::size_t p = 0; p < packed.size(); ++p) {

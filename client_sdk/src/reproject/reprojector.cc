@@ -103,7 +103,7 @@ View Reprojector::render(const GpuCamera& target, int slot, double pixels_per_ra
   // surface and d_max.
   const Eigen::Vector3d t(target.rows[0][3], target.rows[1][3], target.rows[2][3]);
   const double hole = t.norm() * (1 / nearest_ - 1 / options_.max_distance) * pixels_per_radian;
-  const int passes = int(std::min<double>(options_.max_inpaint_passes, std::ceil(hole) + 4));
+  const int max_passes = int(std::min<double>(options_.max_inpaint_passes, std::ceil(hole) + 4));
 
   const std::array<std::uint32_t, 4> key = {target.model, target.width, target.height,
                                             std::uint32_t(slot)};
@@ -111,24 +111,28 @@ View Reprojector::render(const GpuCamera& target, int slot, double pixels_per_ra
   if (it == warpers_.end()) {
     const WarpOptions warp{.min_distance = options_.min_distance,
                            .max_distance = options_.max_distance,
-                           .inpaint_passes = passes,
+                           .inpaint_passes = max_passes,
                            .max_splat = options_.max_splat,
                            .colour = true,
                            .occlusion_tolerance = options_.occlusion_tolerance};
     it = warpers_.try_emplace(key, *context_, source_, target, warp).first;
   } else {
     it->second.set_target(target);
-    it->second.set_inpaint_passes(passes);
   }
   ForwardWarper& warper = it->second;
-  gpu::Sequence seq(*context_, std::uint32_t(2 * passes + 16), 2);
+  // Passes in batches until one fills nothing: holes are usually far narrower than the bound.
+  constexpr int kBatch = 8;
+  gpu::Sequence seq(*context_, kBatch + 8, 2);
+  double gpu_ms = 0;
   seq.begin();
-  seq.begin_stage("reproject");
-  warper.record(seq, *distance_);
-  warper.record_colour(seq, *distance_, *colour_);
-  seq.end_stage();
-  seq.submit_and_wait();
-  last_gpu_ms_ = seq.stage_ms().empty() ? 0 : seq.stage_ms().front().second;
+  seq.begin_stage("warp");
+  warper.record_warp(seq, *distance_);
+  const int passes = warper.inpaint_until_filled(seq, max_passes, kBatch, &gpu_ms);
+  seq.begin();
+  seq.begin_stage("colour");
+  warper.record_colour_sample(seq, *distance_, *colour_);
+  warper.inpaint_colour_until_filled(seq, max_passes, kBatch, &gpu_ms);
+  last_gpu_ms_ = gpu_ms;
   return View{warper.download_colour(), warper.download(), passes};
 }
 

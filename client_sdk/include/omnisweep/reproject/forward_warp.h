@@ -59,6 +59,17 @@ class ForwardWarper {
   void record_colour(gpu::Sequence& seq, const gpu::Buffer& distance,
                      const gpu::Buffer& source_colour);
 
+  // Adaptive inpainting (novel views, where hole widths vary with the pose): record_warp, then
+  // inpaint_until_filled runs passes in batches of `batch`, submitting `seq` (with what was
+  // recorded before) after each batch, until a pass fills nothing (the fixed point) or
+  // `max_passes` ran. Returns the passes run; adds the GPU milliseconds to *gpu_ms. The same for
+  // colour: record_colour_sample, then inpaint_colour_until_filled.
+  void record_warp(gpu::Sequence& seq, const gpu::Buffer& distance);
+  int inpaint_until_filled(gpu::Sequence& seq, int max_passes, int batch, double* gpu_ms);
+  void record_colour_sample(gpu::Sequence& seq, const gpu::Buffer& distance,
+                            const gpu::Buffer& source_colour);
+  int inpaint_colour_until_filled(gpu::Sequence& seq, int max_passes, int batch, double* gpu_ms);
+
   // Target width x height; bits of float distances, 0xffffffff where there is none.
   const gpu::Buffer& result() const;
   // The result as distances, 0 where there is none.
@@ -71,7 +82,10 @@ class ForwardWarper {
   const GpuCamera& target() const { return target_; }
 
  private:
-  void record_inpaint(gpu::Sequence& seq, const gpu::Kernel& kernel, gpu::Buffer* buffers) const;
+  void record_inpaint(gpu::Sequence& seq, const gpu::Kernel& kernel, gpu::Buffer* buffers,
+                      int first_pass, int passes) const;
+  int run_until_filled(gpu::Sequence& seq, const gpu::Kernel& kernel, gpu::Buffer* buffers,
+                       int max_passes, int batch, double* gpu_ms);
 
   GpuCamera source_;
   GpuCamera target_;
@@ -79,7 +93,10 @@ class ForwardWarper {
   bool directions_stale_ = true;
   gpu::Buffer cameras_;
   gpu::Buffer directions_;
-  gpu::Buffer buffers_[2];                   // ping-pong z-buffers
+  gpu::Buffer buffers_[2];  // ping-pong z-buffers
+  gpu::Buffer filled_;      // per pass: did it fill anything
+  int passes_done_ = 0;     // distance passes of the last record (the result's parity)
+  int colour_passes_done_ = 0;
   std::vector<gpu::Buffer> colour_buffers_;  // ping-pong colours (WarpOptions::colour only)
   gpu::Kernel warp_;
   gpu::Kernel directions_kernel_;

@@ -33,9 +33,9 @@ struct ReprojectorOptions {
   double max_distance = 100.0;
   double max_splat = 4.0;  // footprint splatting for views that magnify the panorama
   double occlusion_tolerance = 0.1;
-  // Inpainting passes follow the widest hole the pose can open (its translation times the
-  // inverse distance of the panorama's nearest surface, in target pixels), plus 4 for
-  // cracks, up to this many.
+  // Inpainting runs until a pass fills nothing, at most the widest hole the pose can open (its
+  // translation times the inverse distance of the panorama's nearest surface, in target
+  // pixels) plus 4 for cracks, and at most this many passes.
   int max_inpaint_passes = 256;
 
   void check() const;  // throws std::invalid_argument naming the bad option
@@ -44,7 +44,7 @@ struct ReprojectorOptions {
 struct View {
   Rgb8Image colour;
   FloatImage distance;     // metres from the view's centre, 0 = none
-  int inpaint_passes = 0;  // what this pose needed
+  int inpaint_passes = 0;  // distance inpainting passes run for this pose
 };
 
 // The six faces of a cube map, in this order; each is a 90-degree pinhole view.
