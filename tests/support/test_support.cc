@@ -95,6 +95,10 @@ BackgroundProcess::~BackgroundProcess() {
   }
 }
 
+void BackgroundProcess::signal(int signal) {
+  if (!exited_ && pid_ > 0) ::kill(pid_, signal);
+}
+
 bool BackgroundProcess::running() {
   if (exited_) return false;
   if (::waitpid(pid_, &status_, WNOHANG) == pid_) exited_ = true;

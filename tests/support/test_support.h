@@ -45,6 +45,8 @@ class BackgroundProcess {
   // -2: killed by a signal) and the seconds it took in *seconds.
   int stop(int signal, double timeout_s, double* seconds);
   std::string log() const;
+  // Sends `signal` without waiting (SIGSTOP / SIGCONT to freeze and resume it).
+  void signal(int signal);
 
  private:
   int pid_ = -1;

@@ -1,0 +1,107 @@
+// The client side as apps and users meet it, against omnisweep-server on loopback: the SDK's
+// subscriber reports its connection state as the server runs, freezes and stops; omnisweep-view
+// writes its PNGs after --frames N and fails clearly when nothing arrives in time.
+#include <gtest/gtest.h>
+
+#include <csignal>
+#include <thread>
+
+#include "omnisweep/client/rgbd_subscriber.h"
+#include "omnisweep/image/image_io.h"
+#include "tests/support/stream_fixture.h"
+
+namespace omnisweep {
+namespace {
+
+namespace fs = std::filesystem;
+using client::ConnectionState;
+using testing::BackgroundProcess;
+using testing::run_command;
+
+class ClientTest : public testing::StreamTest {};
+
+// Polls `subscriber` until it reports `state`, up to `seconds`.
+bool reaches(const client::RgbdSubscriber& subscriber, ConnectionState state, double seconds) {
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
+  while (std::chrono::steady_clock::now() < deadline) {
+    if (subscriber.state() == state) return true;
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  return subscriber.state() == state;
+}
+
+TEST_F(ClientTest, SubscriberReportsReceivingStalledAndNoServer) {
+  client::SubscriberOptions options{.participant = participant_options(), .stall_after_s = 1.0};
+  client::RgbdSubscriber subscriber(options);
+  EXPECT_EQ(subscriber.state(), ConnectionState::kNoServer);
+  BackgroundProcess server(server_command(), dir_.path() / "server.log");
+
+  const auto frame = subscriber.wait_for_frame(std::chrono::seconds(60));
+  ASSERT_TRUE(frame) << server.log();
+  EXPECT_EQ(subscriber.state(), ConnectionState::kReceiving);
+  EXPECT_EQ(frame->colour.width(), 256);
+  EXPECT_EQ(frame->distance.height(), 128);
+  EXPECT_GT(frame->latency_ms(), 0.0);
+  EXPECT_EQ(frame->capture_time_ns.size(), 4u);
+  EXPECT_GT(frame->colour_bytes + frame->distance_bytes, 0u);
+  ASSERT_TRUE(subscriber.latest_frame());
+  EXPECT_GE(subscriber.latest_frame()->sequence_number, frame->sequence_number);
+  for (int i = 0; i < 100 && !subscriber.status(); ++i)
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  EXPECT_TRUE(subscriber.status()) << "no status within 5 s";
+  ASSERT_TRUE(subscriber.stream_info());
+  EXPECT_EQ(subscriber.stream_info()->rig.num_cameras(), 4);
+
+  // Frozen: still matched (its DDS lease runs on), but no frames: stalled, then receiving again.
+  server.signal(SIGSTOP);
+  EXPECT_TRUE(reaches(subscriber, ConnectionState::kStalled, 5));
+  server.signal(SIGCONT);
+  EXPECT_TRUE(reaches(subscriber, ConnectionState::kReceiving, 20));
+  // Stopped cleanly: its writers leave, so no server.
+  double seconds = 0;
+  EXPECT_EQ(server.stop(SIGTERM, 5, &seconds), 0);
+  EXPECT_TRUE(reaches(subscriber, ConnectionState::kNoServer, 5));
+  EXPECT_EQ(subscriber.stats().decode_errors, 0u);
+}
+
+TEST_F(ClientTest, ViewWritesThePanoramaItsDistanceAndANovelView) {
+  BackgroundProcess server(server_command(), dir_.path() / "server.log");
+  const fs::path out = dir_.path() / "view";
+  std::string log;
+  ASSERT_EQ(run_command(tool_command("view",
+                                     " --frames 2 --timeout 60 --write-interval 0"
+                                     " --offset 0.05 0 0 --yaw 30 --pinhole 160 120 90"
+                                     " --output " +
+                                         out.string()),
+                        &log),
+            0)
+      << log << server.log();
+  EXPECT_NE(log.find("summary: 2 frames decoded"), std::string::npos) << log;
+  EXPECT_NE(log.find(out.string()), std::string::npos) << "says where the images are: " << log;
+  const std::pair<const char*, int> files[] = {{"panorama.png", 256},
+                                               {"panorama_inverse_distance.png", 256},
+                                               {"view.png", 160},
+                                               {"view_inverse_distance.png", 160}};
+  for (const auto& [name, width] : files) {
+    ASSERT_TRUE(fs::exists(out / name)) << name << "\n" << log;
+    EXPECT_EQ(width_of(read_color_image(out / name)), width) << name;
+  }
+}
+
+TEST_F(ClientTest, ViewWithoutAServerTimesOutWithAClearError) {
+  std::string log;
+  const auto start = std::chrono::steady_clock::now();
+  EXPECT_EQ(run_command(tool_command("view", " --frames 1 --timeout 2 --output " +
+                                                 (dir_.path() / "none").string()),
+                        &log),
+            1)
+      << log;
+  EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(10));
+  EXPECT_NE(log.find("timed out after 2.0 s with 0 of 1 frames (no server)"), std::string::npos)
+      << log;
+  EXPECT_NE(run_command(tool_command("view", " --pinhole 0 10 90"), &log), 0);
+  EXPECT_NE(log.find("--pinhole"), std::string::npos) << log;
+}
+
+}  // namespace
+}  // namespace omnisweep
