@@ -16,6 +16,9 @@ inline void add_dds_flags(CLI::App& app, dds::ParticipantOptions& options,
   app.add_option("--qos", options.qos_file,
                  "Fast DDS XML profile file (default: deploy/qos/omnisweep_qos.xml, built in)")
       ->check(CLI::ExistingFile);
+  app.add_option("--security", options.security_dir,
+                 "DDS Security credentials folder (deploy/security/make-credentials.sh): "
+                 "authentication, encryption, access control");
 }
 
 }  // namespace omnisweep::tools

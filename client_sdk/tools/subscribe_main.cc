@@ -52,6 +52,9 @@ int run(int argc, char** argv) {
       ->check(CLI::Range(0.1, 1e6));
   app.add_option("--dump", dump_dir, "Write <seq>.jpg and <seq>_distance.f32 of every frame");
   app.add_flag("--quiet", quiet, "Only the final summary");
+  bool status_only = false;
+  app.add_flag("--status-only", status_only,
+               "Read only the status topic (an identity permitted nothing else)");
   CLI11_PARSE(app, argc, argv);
   if (!dump_dir.empty()) std::filesystem::create_directories(dump_dir);
   std::signal(SIGINT, on_signal);
@@ -122,7 +125,11 @@ int run(int argc, char** argv) {
     std::printf("\n");
     std::fflush(stdout);
   };
-  dds::StreamSubscriber subscriber(options, profile, std::move(callbacks));
+  dds::StreamSubscriber subscriber(
+      options, profile, std::move(callbacks),
+      status_only ? std::vector<dds::TopicKind>{dds::TopicKind::kStatus}
+                  : std::vector<dds::TopicKind>{dds::TopicKind::kDescription,
+                                                dds::TopicKind::kStatus, dds::TopicKind::kFrames});
 
   auto next_report = start + std::chrono::seconds(1);
   std::vector<double> all_latency;

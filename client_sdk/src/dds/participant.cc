@@ -17,6 +17,12 @@ namespace omnisweep::dds {
 namespace fdds = eprosima::fastdds::dds;
 using ReturnCode_t = eprosima::fastrtps::types::ReturnCode_t;
 
+namespace {
+constexpr const char* kSecurityFiles[] = {"identity_ca.pem", "cert.pem",
+                                          "key.pem",         "permissions_ca.pem",
+                                          "governance.p7s",  "permissions.p7s"};
+}  // namespace
+
 std::string topic_name(const std::string& prefix, TopicKind kind) {
   switch (kind) {
     case TopicKind::kDescription:
@@ -46,7 +52,39 @@ void ParticipantOptions::check() const {
   }
   if (!qos_file.empty() && !std::filesystem::is_regular_file(qos_file))
     throw DdsError("QoS profile file " + qos_file + " does not exist");
+  if (!security_dir.empty()) {
+    for (const char* file : kSecurityFiles) {
+      if (!std::filesystem::is_regular_file(std::filesystem::path(security_dir) / file)) {
+        throw DdsError("security folder " + security_dir + " has no " + file +
+                       " (make one with deploy/security/make-credentials.sh)");
+      }
+    }
+  }
 }
+
+namespace {
+
+// The builtin DDS Security plugins' properties for the credentials in `dir`; paths as
+// file:///absolute URIs, the only form the plugins accept.
+void add_security_properties(const std::string& dir, fdds::DomainParticipantQos& qos) {
+  const auto uri = [&](const char* file) {
+    return "file://" + std::filesystem::absolute(std::filesystem::path(dir) / file).string();
+  };
+  auto& properties = qos.properties().properties();
+  const std::pair<std::string, std::string> values[] = {
+      {"dds.sec.auth.plugin", "builtin.PKI-DH"},
+      {"dds.sec.auth.builtin.PKI-DH.identity_ca", uri("identity_ca.pem")},
+      {"dds.sec.auth.builtin.PKI-DH.identity_certificate", uri("cert.pem")},
+      {"dds.sec.auth.builtin.PKI-DH.private_key", uri("key.pem")},
+      {"dds.sec.access.plugin", "builtin.Access-Permissions"},
+      {"dds.sec.access.builtin.Access-Permissions.permissions_ca", uri("permissions_ca.pem")},
+      {"dds.sec.access.builtin.Access-Permissions.governance", uri("governance.p7s")},
+      {"dds.sec.access.builtin.Access-Permissions.permissions", uri("permissions.p7s")},
+      {"dds.sec.crypto.plugin", "builtin.AES-GCM-GMAC"}};
+  for (const auto& [name, value] : values) properties.emplace_back(name, value);
+}
+
+}  // namespace
 
 void load_qos_profiles(const std::string& qos_file) {
   static std::mutex mutex;
@@ -55,10 +93,10 @@ void load_qos_profiles(const std::string& qos_file) {
   const std::string key = qos_file.empty() ? "<embedded>" : qos_file;
   if (loaded.count(key)) return;
   auto* factory = fdds::DomainParticipantFactory::get_instance();
-  const ReturnCode_t result =
-      qos_file.empty() ? factory->load_XML_profiles_string(kEmbeddedQosProfiles,
-                                                           sizeof(kEmbeddedQosProfiles) - 1)
-                       : factory->load_XML_profiles_file(qos_file);
+  const ReturnCode_t result = qos_file.empty()
+                                  ? factory->load_XML_profiles_string(
+                                        kEmbeddedQosProfiles, sizeof(kEmbeddedQosProfiles) - 1)
+                                  : factory->load_XML_profiles_file(qos_file);
   if (result != ReturnCode_t::RETCODE_OK) {
     throw DdsError(qos_file.empty() ? "the embedded QoS profiles do not load"
                                     : "QoS profile file " + qos_file +
@@ -74,15 +112,21 @@ Participant::Participant(const ParticipantOptions& options) : options_(options) 
   fdds::DomainParticipantQos qos;
   if (factory->get_participant_qos_from_profile("omnisweep_participant", qos) !=
       ReturnCode_t::RETCODE_OK) {
-    throw DdsError("QoS profile \"omnisweep_participant\" is missing from " +
-                   (options_.qos_file.empty() ? std::string("the embedded profiles")
-                                              : options_.qos_file));
+    throw DdsError(
+        "QoS profile \"omnisweep_participant\" is missing from " +
+        (options_.qos_file.empty() ? std::string("the embedded profiles") : options_.qos_file));
   }
   qos.name(options_.name);
+  if (!options_.security_dir.empty()) add_security_properties(options_.security_dir, qos);
   participant_ = factory->create_participant(options_.domain, qos);
   if (!participant_) {
     throw DdsError("cannot create the DDS participant on domain " +
-                   std::to_string(options_.domain));
+                   std::to_string(options_.domain) +
+                   (options_.security_dir.empty()
+                        ? std::string()
+                        : " with the credentials in " + options_.security_dir +
+                              " (expired, not signed by their CA, or a subject that does not "
+                              "match the permissions)"));
   }
   try {
     const std::pair<TopicKind, fdds::TypeSupport> types[] = {

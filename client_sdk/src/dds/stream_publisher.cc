@@ -38,12 +38,15 @@ StreamPublisher::StreamPublisher(const dds::ParticipantOptions& options,
     fdds::DataWriterQos qos;
     if (publisher.get_datawriter_qos_from_profile(profile, qos) != ReturnCode_t::RETCODE_OK)
       throw dds::DdsError("no data_writer QoS profile \"" + profile + "\"");
-    writers_[int(kind)] =
-        publisher.create_datawriter(&participant_->topic(kind), qos, listener_.get(),
-                                    fdds::StatusMask::publication_matched());
+    writers_[int(kind)] = publisher.create_datawriter(
+        &participant_->topic(kind), qos, listener_.get(), fdds::StatusMask::publication_matched());
     if (!writers_[int(kind)]) {
-      throw dds::DdsError("cannot create the DDS writer of " +
-                          dds::topic_name(options.topic_prefix, kind) + " with profile " + profile);
+      throw dds::DdsError(
+          "cannot create the DDS writer of " + dds::topic_name(options.topic_prefix, kind) +
+          " with profile " + profile +
+          (options.security_dir.empty()
+               ? std::string()
+               : ": the permissions in " + options.security_dir + " do not allow publishing it"));
     }
   }
 }

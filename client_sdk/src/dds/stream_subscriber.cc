@@ -74,24 +74,28 @@ class StreamSubscriber::Listener final : public fdds::DataReaderListener {
 };
 
 StreamSubscriber::StreamSubscriber(const ParticipantOptions& options,
-                                   const std::string& frame_profile, StreamCallbacks callbacks)
+                                   const std::string& frame_profile, StreamCallbacks callbacks,
+                                   std::vector<TopicKind> topics)
     : participant_(std::make_unique<Participant>(options)),
       listener_(std::make_unique<Listener>(*this)),
       callbacks_(std::move(callbacks)) {
   fdds::Subscriber& subscriber = participant_->subscriber();
-  const std::pair<TopicKind, std::string> readers[] = {
-      {TopicKind::kDescription, "omnisweep_description"},
-      {TopicKind::kStatus, "omnisweep_status"},
-      {TopicKind::kFrames, frame_reader_profile(frame_profile)}};
-  for (const auto& [kind, profile] : readers) {
+  for (const TopicKind kind : topics) {
+    const std::string profile = kind == TopicKind::kFrames   ? frame_reader_profile(frame_profile)
+                                : kind == TopicKind::kStatus ? "omnisweep_status"
+                                                             : "omnisweep_description";
     fdds::DataReaderQos qos;
     if (subscriber.get_datareader_qos_from_profile(profile, qos) != ReturnCode_t::RETCODE_OK)
       throw DdsError("no data_reader QoS profile \"" + profile + "\"");
     readers_[int(kind)] = subscriber.create_datareader(&participant_->topic(kind), qos,
                                                        listener_.get(), fdds::StatusMask::all());
     if (!readers_[int(kind)]) {
-      throw DdsError("cannot create the DDS reader of " +
-                     topic_name(options.topic_prefix, kind) + " with profile " + profile);
+      throw DdsError("cannot create the DDS reader of " + topic_name(options.topic_prefix, kind) +
+                     " with profile " + profile +
+                     (options.security_dir.empty()
+                          ? std::string()
+                          : ": the permissions in " + options.security_dir +
+                                " do not allow subscribing to it"));
     }
   }
 }

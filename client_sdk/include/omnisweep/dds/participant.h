@@ -37,6 +37,11 @@ struct ParticipantOptions {
   std::string topic_prefix = "omnisweep";  // letters, digits, '_', '-', '/' between words
   std::string qos_file;                    // empty: the embedded deploy/qos/omnisweep_qos.xml
   std::string name = "omnisweep";          // participant name, shown by DDS tools
+  // DDS Security: a folder made by deploy/security/make-credentials.sh (identity_ca.pem,
+  // cert.pem, key.pem, permissions_ca.pem, governance.p7s, permissions.p7s). Turns on
+  // authentication (PKI-DH), encryption (AES-GCM-GMAC) and access control per topic. Empty: none
+  // (or whatever the QoS file's omnisweep_participant profile sets).
+  std::string security_dir;
 
   // Throws DdsError naming the bad option.
   void check() const;

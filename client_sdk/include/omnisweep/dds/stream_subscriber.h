@@ -10,6 +10,7 @@
 #include <mutex>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "omnisweep/dds/participant.h"
 #include "omnisweep_msgs.h"
@@ -30,8 +31,13 @@ class StreamSubscriber {
  public:
   // `frame_profile`: "live" (best effort, newest frames; viewers) or "reliable" (every frame,
   // retransmitted; recorders), or the name of a data_reader profile in the QoS file.
+  // `topics`: which of the stream's topics to read (a monitoring identity may be allowed only
+  // the status). Throws DdsError naming the topic whose reader cannot be created (with DDS
+  // Security: not permitted).
   StreamSubscriber(const ParticipantOptions& options, const std::string& frame_profile,
-                   StreamCallbacks callbacks);
+                   StreamCallbacks callbacks,
+                   std::vector<TopicKind> topics = {TopicKind::kDescription, TopicKind::kStatus,
+                                                    TopicKind::kFrames});
   ~StreamSubscriber();
   StreamSubscriber(const StreamSubscriber&) = delete;
   StreamSubscriber& operator=(const StreamSubscriber&) = delete;
