@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <csignal>
+#include <regex>
 #include <thread>
 
 #include "omnisweep/client/rgbd_subscriber.h"
@@ -76,7 +77,10 @@ TEST_F(ClientTest, ViewWritesThePanoramaItsDistanceAndANovelView) {
                         &log),
             0)
       << log << server.log();
-  EXPECT_NE(log.find("summary: 2 frames decoded"), std::string::npos) << log;
+  std::smatch decoded;
+  ASSERT_TRUE(std::regex_search(log, decoded, std::regex(R"(summary: (\d+) frames decoded)")))
+      << log;
+  EXPECT_GE(std::stoi(decoded[1]), 2) << log;  // a third may land before it stops
   EXPECT_NE(log.find(out.string()), std::string::npos) << "says where the images are: " << log;
   const std::pair<const char*, int> files[] = {{"panorama.png", 256},
                                                {"panorama_inverse_distance.png", 256},
