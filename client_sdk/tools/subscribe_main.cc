@@ -81,6 +81,7 @@ int run(int argc, char** argv) {
     std::fflush(stdout);
   };
   callbacks.frame = [&](const msg::RgbdFrame& frame) {
+    if (want_frames && decoded >= want_frames) return;  // done: the summary counts exactly N
     try {
       const wire::DecodedFrame decodedFrame = wire::decode_frame(frame);
       const std::uint64_t t = wall_clock_ns();
