@@ -1,7 +1,8 @@
 // omnisweep-bench: GPU time per depth stage at several matching resolutions, and the ISB filter
 // side by side with OpenCV's guided filter, fast bilateral solver and box filter on one
 // synthetic cost volume (the paper's Table 2 on this machine), the codecs against 16-bit PNG,
-// novel-view reprojection (bench_reproject.cc) and MCAP recording (bench_record.cc). A benchmark,
+// novel-view reprojection (bench_reproject.cc), MCAP recording (bench_record.cc) and streaming
+// with and without DDS Security (bench_security.cc). A benchmark,
 // not a test: it prints what it measured.
 #include <fcntl.h>
 #include <unistd.h>
@@ -31,6 +32,7 @@
 #include "server/stitch/stitcher.h"
 #include "server/tools/bench_record.h"
 #include "server/tools/bench_reproject.h"
+#include "server/tools/bench_security.h"
 
 namespace {
 
@@ -393,7 +395,8 @@ int run(int argc, char** argv) {
   std::vector<int> resolutions = {256, 512, 1024};
   int filter_resolution = 1024, iterations = 3;
   bool json = false, skip_fbs = false;
-  std::vector<std::string> sections = {"stages", "filters", "codecs", "reproject", "record"};
+  std::vector<std::string> sections = {"stages",    "filters", "codecs",
+                                       "reproject", "record",  "security"};
   std::string kaist_dir;
   if (const char* shared = std::getenv("OMNISWEEP_SHARED_DIR"))
     kaist_dir = std::string(shared) + "/data/kaist-rig";
@@ -411,9 +414,10 @@ int run(int argc, char** argv) {
       "Vulkan device: index or name substring (default: OMNISWEEP_VK_DEVICE, else the best)");
   app.add_flag("--json", json, "One JSON object per row instead of tables");
   app.add_flag("--skip-fbs", skip_fbs, "Leave out the (slow) fast bilateral solver");
-  app.add_option("--sections", sections,
-                 "What to measure: stages, filters, codecs, reproject, record (default: all)")
-      ->check(CLI::IsMember({"stages", "filters", "codecs", "reproject", "record"}))
+  app.add_option(
+         "--sections", sections,
+         "What to measure: stages, filters, codecs, reproject, record, security (default: all)")
+      ->check(CLI::IsMember({"stages", "filters", "codecs", "reproject", "record", "security"}))
       ->delimiter(',');
   app.add_option("--kaist", kaist_dir,
                  "kaist-rig dataset for the codec comparison (default ../shared/data/kaist-rig)");
@@ -435,6 +439,7 @@ int run(int argc, char** argv) {
   if (want("codecs")) codec_section(context, kaist_dir, json);
   if (want("reproject")) tools::reproject_section(context, iterations, json);
   if (want("record")) tools::record_section(json);
+  if (want("security")) tools::security_section(OMNISWEEP_SOURCE_DIR, json);
   return 0;
 }
 
