@@ -1,11 +1,13 @@
 // Faults on loopback, as a robot's network and power meet them: a server killed with SIGKILL
 // and started again reaches a subscriber that kept running; a subscriber blocked in its
 // callback slows neither the server nor another subscriber; eight subscribers cost the server
-// little more than one. (ctest label: reliability)
+// little more than one; a source that stalls is reported, and ends the server where configured.
+// (ctest label: reliability)
 #include <gtest/gtest.h>
 
 #include <atomic>
 #include <csignal>
+#include <filesystem>
 #include <map>
 #include <memory>
 #include <regex>
@@ -144,6 +146,51 @@ TEST_F(ReliabilityTest, EightSubscribersCostTheServerLittle) {
   // 20 % of that is below the jitter of this shared 2-core machine, so the bound is 20 % or
   // 0.5 ms, whichever is larger.
   EXPECT_LT(publish8, std::max(1.2 * publish1, publish1 + 0.5));
+}
+
+// Polls the server's status through `subscriber` until its state is `state`, up to `seconds`.
+bool server_state_becomes(const client::RgbdSubscriber& subscriber, const std::string& state,
+                          double seconds) {
+  const auto start = Clock::now();
+  while (seconds_since(start) < seconds) {
+    if (const auto s = subscriber.status(); s && s->state() == state) return true;
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+  return false;
+}
+
+TEST_F(ReliabilityTest, StalledSourceIsReportedThenExitsWhenConfiguredTo) {
+  // The dataset is read frame by frame from disk: moving it away stalls the source.
+  const std::filesystem::path data = dir_.path() / "data", away = dir_.path() / "away";
+  client::SubscriberOptions options{.participant = participant_options()};
+  client::RgbdSubscriber subscriber(options);
+  {
+    BackgroundProcess server(server_command(), dir_.path() / "server.log");
+    ASSERT_TRUE(subscriber.wait_for_frame(std::chrono::seconds(60))) << server.log();
+    ASSERT_TRUE(server_state_becomes(subscriber, "running", 10)) << server.log();
+    std::filesystem::rename(data, away);
+    EXPECT_TRUE(server_state_becomes(subscriber, "source stalled", 10)) << server.log();
+    EXPECT_TRUE(server.running()) << "the server should keep serving: " << server.log();
+    EXPECT_NE(server.log().find("source stalled"), std::string::npos) << server.log();
+    std::filesystem::rename(away, data);  // the cameras come back
+    EXPECT_TRUE(server_state_becomes(subscriber, "running", 15)) << server.log();
+    const auto frame = subscriber.wait_for_frame(std::chrono::seconds(30));
+    EXPECT_TRUE(frame) << "no frame after the source recovered: " << server.log();
+    double seconds = 0;
+    EXPECT_EQ(server.stop(SIGTERM, 5, &seconds), 0) << server.log();
+  }
+  // --exit-on-source-end: a clear message and a non-zero exit instead.
+  BackgroundProcess server(server_command(" --exit-on-source-end"), dir_.path() / "server2.log");
+  ASSERT_TRUE(subscriber.wait_for_frame(std::chrono::seconds(60))) << server.log();
+  std::filesystem::rename(data, away);
+  const auto start = Clock::now();
+  while (server.running() && seconds_since(start) < 20)
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  ASSERT_FALSE(server.running()) << server.log();
+  double seconds = 0;
+  EXPECT_NE(server.stop(SIGTERM, 1, &seconds), 0) << server.log();
+  EXPECT_NE(server.log().find("no frame of dataset"), std::string::npos) << server.log();
+  std::filesystem::rename(away, data);
 }
 
 }  // namespace
