@@ -22,13 +22,6 @@ using omnisweep::testing::ValidatedGpuTest;
 
 constexpr int kWidth = 1024, kHeight = 512;
 
-FloatImage to_distance(const FloatImage& inverse) {
-  FloatImage out(inverse.width(), inverse.height(), 1, 0.0f);
-  for (std::size_t i = 0; i < out.size(); ++i)
-    out.data()[i] = inverse.data()[i] > 0 ? 1.0f / inverse.data()[i] : 0.0f;
-  return out;
-}
-
 class ReprojectorTest : public ValidatedGpuTest {
  protected:
   static void SetUpTestSuite() {
@@ -44,7 +37,7 @@ class ReprojectorTest : public ValidatedGpuTest {
   }
   static Reprojector reprojector() {
     Reprojector r(context());
-    r.set_panorama(source_->rgb, to_distance(source_->inverse_distance), rig_->viewpoint());
+    r.set_panorama(source_->rgb, reciprocal_or_zero(source_->inverse_distance), rig_->viewpoint());
     return r;
   }
   // Direction (rig frame) of the nearest surface seen from the viewpoint: the near sphere.
@@ -88,8 +81,9 @@ TEST_F(ReprojectorTest, NovelPanoramasMatchTheGroundTruthThere) {
     const synthetic::RenderedImage truth = rig_->render_panorama_at(0, position, kWidth, kHeight);
     const stitch::PanoramaMetrics m =
         stitch::evaluate_panorama(view.colour, view.distance, truth.rgb, truth.inverse_distance);
-    const stitch::PanoramaMetrics unmoved = stitch::evaluate_panorama(
-        source_->rgb, to_distance(source_->inverse_distance), truth.rgb, truth.inverse_distance);
+    const stitch::PanoramaMetrics unmoved =
+        stitch::evaluate_panorama(source_->rgb, reciprocal_or_zero(source_->inverse_distance),
+                                  truth.rgb, truth.inverse_distance);
     std::printf(
         "%.0f cm: PSNR %.2f dB (unmoved panorama %.2f), inverse-distance MAE %.4f m^-1 "
         "(unmoved %.4f), %d inpainting passes, %.1f GPU ms\n",

@@ -37,13 +37,6 @@ struct ViewOptions {
   std::vector<double> pinhole = {1024, 768, 90};  // W H FOV
 };
 
-FloatImage inverse_of(const FloatImage& distance) {
-  FloatImage out(distance.width(), distance.height(), 1, 0.0f);
-  for (std::size_t i = 0; i < out.size(); ++i)
-    out.data()[i] = distance.data()[i] > 0 ? 1.0f / distance.data()[i] : 0.0f;
-  return out;
-}
-
 // Writes through a temporary name, so a program watching the folder never reads half a file.
 void write_png_atomically(const fs::path& path, const Image<std::uint8_t>& image) {
   const fs::path tmp = path.string() + ".tmp.png";
@@ -80,8 +73,9 @@ class ImageWriter {
     const float max_inverse =
         frame.stream ? 1.0f / frame.stream->distance_params.min_distance : 1 / 0.55f;
     write_png_atomically(output_ / "panorama.png", frame.colour);
-    write_png_atomically(output_ / "panorama_inverse_distance.png",
-                         colorize_inverse_distance(inverse_of(frame.distance), max_inverse));
+    write_png_atomically(
+        output_ / "panorama_inverse_distance.png",
+        colorize_inverse_distance(reciprocal_or_zero(frame.distance), max_inverse));
     if (!context_) return;
     if (!reprojector_) {
       reproject::ReprojectorOptions options;
@@ -97,7 +91,7 @@ class ImageWriter {
         view_pose(view_, frame), reproject::pinhole_for_fov(w, h, view_.pinhole[2]), w, h);
     write_png_atomically(output_ / "view.png", view.colour);
     write_png_atomically(output_ / "view_inverse_distance.png",
-                         colorize_inverse_distance(inverse_of(view.distance), max_inverse));
+                         colorize_inverse_distance(reciprocal_or_zero(view.distance), max_inverse));
   }
 
  private:

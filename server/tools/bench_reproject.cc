@@ -26,11 +26,7 @@ void reproject_section(gpu::Context& context, int iterations, bool json) {
   constexpr int kWidth = 2048, kHeight = 1024;
   const synthetic::SyntheticRig rig(synthetic::SyntheticRigOptions{.image_size = 64});
   const synthetic::RenderedImage pano = rig.render_panorama_at(0, rig.viewpoint(), kWidth, kHeight);
-  FloatImage distance(kWidth, kHeight, 1, 0.0f);
-  for (std::size_t i = 0; i < distance.size(); ++i) {
-    const float inv = pano.inverse_distance.data()[i];
-    distance.data()[i] = inv > 0 ? 1 / inv : 0;
-  }
+  const FloatImage distance = reciprocal_or_zero(pano.inverse_distance);
   reproject::Reprojector reprojector(context);
   reprojector.set_panorama(pano.rgb, distance, rig.viewpoint());
 

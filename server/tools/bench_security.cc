@@ -28,11 +28,7 @@ struct Result {
 msg::RgbdFrame encoded_frame() {
   const synthetic::SyntheticRig rig(synthetic::SyntheticRigOptions{.image_size = 64});
   const synthetic::RenderedImage pano = rig.render_panorama_at(0, rig.viewpoint(), 2048, 1024);
-  FloatImage distance(2048, 1024, 1, 0.0f);
-  for (std::size_t i = 0; i < distance.size(); ++i) {
-    const float inv = pano.inverse_distance.data()[i];
-    distance.data()[i] = inv > 0 ? 1 / inv : 0;
-  }
+  const FloatImage distance = reciprocal_or_zero(pano.inverse_distance);
   const codec::DistanceParams params;
   msg::RgbdFrame frame;
   frame.width(2048);

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "client_sdk/tools/tool_main.h"
 #include "omnisweep/dataset/dataset.h"
 #include "omnisweep/image/image_io.h"
 #include "server/depth/depth_estimator.h"
@@ -17,7 +18,6 @@
 #include "server/stitch/panorama_metrics.h"
 #include "server/stitch/stitcher.h"
 #include "server/tools/depth_flags.h"
-#include "client_sdk/tools/tool_main.h"
 
 namespace {
 
@@ -119,10 +119,7 @@ int run(int argc, char** argv) {
             stitcher.stitch(depth::pointers(result.distance), depth::pointers(colour));
         const double ms = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
 
-        FloatImage inverse(pano.distance.width(), pano.distance.height(), 1);
-        for (std::size_t p = 0; p < inverse.size(); ++p) {
-          inverse.data()[p] = pano.distance.data()[p] > 0 ? 1.0f / pano.distance.data()[p] : 0.0f;
-        }
+        const FloatImage inverse = reciprocal_or_zero(pano.distance);
         write_png(fs::path(output_dir) / ("rgb_" + frame.name + ".png"), pano.rgb);
         write_exr(fs::path(output_dir) / ("inv_distance_" + frame.name + ".exr"), inverse);
         write_png(fs::path(output_dir) / ("inv_distance_" + frame.name + ".png"),

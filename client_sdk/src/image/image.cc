@@ -41,6 +41,13 @@ FloatImage to_rgb_float255(const AnyImage& image) {
       image);
 }
 
+FloatImage reciprocal_or_zero(const FloatImage& image) {
+  FloatImage out(image.width(), image.height(), image.channels(), 0.0f);
+  for (std::size_t i = 0; i < out.size(); ++i)
+    if (image.data()[i] > 0) out.data()[i] = 1.0f / image.data()[i];
+  return out;
+}
+
 Rgb8Image to_rgb8(const AnyImage& image) {
   if (const auto* u8 = std::get_if<Image<std::uint8_t>>(&image)) return u8->clone();
   const FloatImage f = to_rgb_float255(image);

@@ -111,6 +111,8 @@ const char* depth_name(const AnyImage& image);  // "8-bit", "16-bit" or "float"
 // Converts to 8-bit (rounded, clamped) or to float on the 0..255 scale the matching cost uses
 // (ALGORITHM.md §3 step 3), keeping 16-bit and float precision.
 Rgb8Image to_rgb8(const AnyImage& image);
+// 1 / x per value where x > 0, else 0: distance (m) <-> inverse distance (m^-1), 0 = no value.
+FloatImage reciprocal_or_zero(const FloatImage& image);
 FloatImage to_rgb_float255(const AnyImage& image);
 
 }  // namespace omnisweep
