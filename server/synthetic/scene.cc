@@ -23,6 +23,11 @@ class Random {
     return lo + (hi - lo) * float(next() >> 40) / float(1 << 24);
   }
   int index(int n) { return int(next() % std::uint64_t(n)); }
+  // A point drawn uniformly in the box [lo, hi], z first, then y, then x.
+  Eigen::Vector3f uniform_zyx(const Eigen::Vector3f& lo, const Eigen::Vector3f& hi) {
+    const float z = uniform(lo.z(), hi.z()), y = uniform(lo.y(), hi.y());
+    return {uniform(lo.x(), hi.x()), y, z};
+  }
 
  private:
   std::uint64_t state_;
@@ -44,8 +49,10 @@ Material random_material(Random& rng, Pattern pattern, float scale) {
   Material m;
   m.pattern = pattern;
   const float hue = rng.uniform(0, 1);
-  m.color_a = hsv(hue, rng.uniform(0.15f, 0.6f), rng.uniform(0.55f, 0.9f));
-  m.color_b = hsv(hue + rng.uniform(0.1f, 0.5f), rng.uniform(0.3f, 0.8f), rng.uniform(0.1f, 0.45f));
+  const float value_a = rng.uniform(0.55f, 0.9f), saturation_a = rng.uniform(0.15f, 0.6f);
+  m.color_a = hsv(hue, saturation_a, value_a);
+  const float value_b = rng.uniform(0.1f, 0.45f), saturation_b = rng.uniform(0.3f, 0.8f);
+  m.color_b = hsv(hue + rng.uniform(0.1f, 0.5f), saturation_b, value_b);
   m.scale = scale;
   m.seed = std::uint32_t(rng.next());
   return m;
@@ -152,21 +159,29 @@ float distance_to_path(const Eigen::Vector3f& p, const std::vector<Eigen::Vector
 
 Scene Scene::hall(std::uint64_t seed, const std::vector<Eigen::Vector3f>& keep_clear,
                   float clearance, float near_distance) {
+  // Every draw from rng is its own statement: C++ leaves the order in which a call's arguments
+  // are evaluated to the compiler (GCC and clang differ), so two draws in one call would give
+  // each compiler a different scene for the same seed. The order below is the one GCC used,
+  // so scenes are those of earlier releases.
   Random rng(seed);
   Scene s;
   // A hall up to about 25 m x 21 m x 4.5 m: the far corners stay within 20 m of the rig's path.
-  s.room_.min = Eigen::Vector3f(rng.uniform(-10.5f, -9.0f), rng.uniform(-3.4f, -2.6f),
-                                rng.uniform(-7.5f, -6.0f));
-  s.room_.max =
-      Eigen::Vector3f(rng.uniform(9.5f, 11.0f), rng.uniform(1.3f, 1.6f), rng.uniform(12.5f, 14.0f));
+  s.room_.min = rng.uniform_zyx({-10.5f, -3.4f, -7.5f}, {-9.0f, -2.6f, -6.0f});
+  s.room_.max = rng.uniform_zyx({9.5f, 1.3f, 12.5f}, {11.0f, 1.6f, 14.0f});
   auto add_material = [&](Material m) {
     s.materials_.push_back(m);
     return int(s.materials_.size()) - 1;
   };
-  s.room_.wall_material =
-      add_material(random_material(rng, Pattern::kBlotches, rng.uniform(0.8f, 1.4f)));
-  s.room_.floor_material =
-      add_material(random_material(rng, Pattern::kTiles, rng.uniform(0.5f, 0.8f)));
+  // A material of the pattern (index into `patterns`, or `pattern` when count is 0) and a
+  // scale drawn from [lo, hi]: the scale first, then the pattern.
+  auto new_material = [&](const Pattern* patterns, int count, float lo, float hi) {
+    const float scale = rng.uniform(lo, hi);
+    const Pattern pattern = count > 1 ? patterns[rng.index(count)] : patterns[0];
+    return add_material(random_material(rng, pattern, scale));
+  };
+  const Pattern blotches = Pattern::kBlotches, tiles = Pattern::kTiles;
+  s.room_.wall_material = new_material(&blotches, 1, 0.8f, 1.4f);
+  s.room_.floor_material = new_material(&tiles, 1, 0.5f, 0.8f);
   s.room_.ceiling_material = add_material(random_material(rng, Pattern::kPlain, 1.0f));
   s.light_ =
       Eigen::Vector3f(0.5f * (s.room_.min.x() + s.room_.max.x()), s.room_.min.y() + 0.3f, 2.0f);
@@ -193,10 +208,13 @@ Scene Scene::hall(std::uint64_t seed, const std::vector<Eigen::Vector3f>& keep_c
     for (int attempt = 0; attempt < 200; ++attempt) {
       // Half the objects within 4 m of the start, the rest anywhere in the hall.
       const bool near = rng.index(2) == 0;
-      const Eigen::Vector3f c =
-          near ? Eigen::Vector3f(rng.uniform(-4, 4), 0, rng.uniform(-4, 4))
-               : Eigen::Vector3f(rng.uniform(s.room_.min.x(), s.room_.max.x()), 0,
-                                 rng.uniform(s.room_.min.z(), s.room_.max.z()));
+      // On the floor (y = 0), z drawn first.
+      const Eigen::Vector2f lo = near ? Eigen::Vector2f(-4, -4)
+                                      : Eigen::Vector2f(s.room_.min.x(), s.room_.min.z());
+      const Eigen::Vector2f hi =
+          near ? Eigen::Vector2f(4, 4) : Eigen::Vector2f(s.room_.max.x(), s.room_.max.z());
+      const float z = rng.uniform(lo.y(), hi.y());
+      const Eigen::Vector3f c(rng.uniform(lo.x(), hi.x()), 0, z);
       if (fits(c, radius)) {
         placed.emplace_back(c.x(), c.z(), radius, 0);
         make(c);
@@ -206,10 +224,8 @@ Scene Scene::hall(std::uint64_t seed, const std::vector<Eigen::Vector3f>& keep_c
   };
   const float floor_y = s.room_.max.y();
   for (int i = 0; i < 8; ++i) {
-    const Eigen::Vector3f half(rng.uniform(0.15f, 0.8f), rng.uniform(0.15f, 1.1f),
-                               rng.uniform(0.15f, 0.8f));
-    const int mat =
-        add_material(random_material(rng, object_patterns[rng.index(5)], rng.uniform(0.15f, 0.5f)));
+    const Eigen::Vector3f half = rng.uniform_zyx({0.15f, 0.15f, 0.15f}, {0.8f, 1.1f, 0.8f});
+    const int mat = new_material(object_patterns, 5, 0.15f, 0.5f);
     const float yaw = rng.uniform(0, 3.14159f);
     place(std::hypot(half.x(), half.z()), [&](const Eigen::Vector3f& c) {
       s.boxes_.push_back({Eigen::Vector3f(c.x(), floor_y - half.y(), c.z()), half, yaw, mat});
@@ -218,15 +234,15 @@ Scene Scene::hall(std::uint64_t seed, const std::vector<Eigen::Vector3f>& keep_c
   for (int i = 0; i < 5; ++i) {
     const float radius = rng.uniform(0.15f, 0.7f);
     const float lift = rng.index(2) ? 0.0f : rng.uniform(0.3f, 1.5f);
-    const int mat =
-        add_material(random_material(rng, object_patterns[rng.index(4)], rng.uniform(0.1f, 0.35f)));
+    const int mat = new_material(object_patterns, 4, 0.1f, 0.35f);
     place(radius, [&](const Eigen::Vector3f& c) {
       s.spheres_.push_back({Eigen::Vector3f(c.x(), floor_y - radius - lift, c.z()), radius, mat});
     });
   }
   for (int i = 0; i < 6; ++i) {
     const float radius = rng.uniform(0.025f, 0.06f);
-    const int mat = add_material(random_material(rng, Pattern::kStripes, rng.uniform(0.1f, 0.3f)));
+    const Pattern stripes = Pattern::kStripes;
+    const int mat = new_material(&stripes, 1, 0.1f, 0.3f);
     place(radius, [&](const Eigen::Vector3f& c) {
       s.poles_.push_back({c.x(), c.z(), radius, mat});
     });

@@ -171,7 +171,10 @@ void codec_section(gpu::Context& context, const std::string& kaist_dir, bool jso
                   bytes / 1024.0, enc, dec, mean_err, err);
     }
   };
-  for (const auto& [label, pano] : panoramas) {
+  for (const auto& entry : panoramas) {
+    // Named, not a structured binding: clang 14 (the sanitizer build) cannot capture one.
+    const std::string& label = entry.first;
+    const stitch::Panorama& pano = entry.second;
     const int w = pano.distance.width(), h = pano.distance.height();
     for (const auto* params : {&full, &light}) {
       codec::Bytes bytes;

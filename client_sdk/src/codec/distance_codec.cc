@@ -92,7 +92,8 @@ void quantise(const FloatImage& distance, const DistanceParams& params, int w, c
     q += std::size_t(band.y0) * w;
     for (std::size_t i = 0; i < n; ++i) {  // branch-free, so the compiler can vectorise it
       const float v = d[i];
-      const float inv = std::min(std::max(1.0f / v, lo), hi);
+      // lo first: max(lo, NaN) is lo, so no NaN reaches the conversion to int below (UB).
+      const float inv = std::min(std::max(lo, 1.0f / v), hi);
       const auto level = std::int32_t((inv - lo) * scale + 1.5f);
       const std::int32_t valid = std::int32_t(v > 0.0f) & std::int32_t(v < INFINITY);
       q[i] = std::uint16_t(level * valid);
