@@ -4,9 +4,9 @@
 // payload throws CodecError and never reads out of bounds.
 //
 //   colour:   "jpeg"        libjpeg-turbo, quality 1-100 (default 90), 4:2:0
-//   distance: "qinv16-zstd" inverse distance quantised to 16-bit levels over [1/d_max, 1/d_min] (0
-//   =
-//             no value), LOCO-I median prediction, byte planes, zstd with a content checksum.
+//   distance: "qinv16-zstd" inverse distance quantised to 16-bit levels over [1/d_max, 1/d_min]
+//             (0 = no value), planar prediction, residuals sorted into 8 context streams, zstd
+//             with a content checksum (docs/wire-format.md has the layout).
 #pragma once
 
 #include <cstdint>
