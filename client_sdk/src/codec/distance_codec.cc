@@ -122,8 +122,11 @@ void quantise(const FloatImage& distance, const DistanceParams& params, int w, c
 // What one band needs between frames: reusing the buffers and zstd contexts avoids
 // allocating (and page-faulting) megabytes per frame.
 struct BandScratch {
-  std::vector<std::uint16_t> residuals;
-  std::vector<std::uint8_t> contexts, streams;
+  std::vector<std::uint16_t> residuals;         // one row
+  std::vector<std::uint8_t> contexts, escapes;  // one row; the band's escapes
+  std::array<std::unique_ptr<std::uint8_t[]>, kContexts> context_bytes;  // encoder, n each
+  std::size_t capacity = 0;                                              // of context_bytes
+  std::vector<std::uint8_t> streams;  // the band's streams, joined
   Bytes frame;
   std::array<std::uint32_t, kContexts> counts{};
   std::unique_ptr<ZSTD_CCtx, decltype(&ZSTD_freeCCtx)> cctx{nullptr, ZSTD_freeCCtx};
@@ -160,17 +163,27 @@ constexpr std::uint8_t kEscape = 255;
 // Encodes rows [y0, y1) of the stored map into scratch.streams: the kContexts context streams
 // one after another (lengths in scratch.counts), then the escape stream. The prediction is
 // planar, left + up - up-left (left on a band's first row, up in the first column), in
-// arithmetic modulo 2^16.
+// arithmetic modulo 2^16. One pass: each row's residuals and contexts stay in cache, and each
+// symbol goes straight to its context's buffer.
 void residual_streams(const std::uint16_t* q, int w, const Band& band, BandScratch& scratch) {
   const std::size_t n = std::size_t(band.y1 - band.y0) * w;
-  scratch.residuals.resize(n);
-  scratch.contexts.resize(n);
+  if (scratch.capacity < n) {
+    // Not zero-filled: only the bytes written are touched.
+    for (auto& buffer : scratch.context_bytes) buffer.reset(new std::uint8_t[n]);
+    scratch.capacity = n;
+  }
+  std::array<std::uint8_t*, kContexts> out;
+  for (int k = 0; k < kContexts; ++k) out[k] = scratch.context_bytes[k].get();
+  scratch.residuals.resize(w);
+  scratch.contexts.resize(w);
+  std::uint16_t* __restrict z = scratch.residuals.data();
+  std::uint8_t* __restrict context = scratch.contexts.data();
+  std::vector<std::uint8_t>& escapes = scratch.escapes;
+  escapes.clear();
   for (int y = band.y0; y < band.y1; ++y) {
     const std::uint16_t* __restrict row = q + std::size_t(y) * w;
     const std::uint16_t* __restrict up = y == band.y0 ? nullptr : row - w;
-    const std::size_t o = std::size_t(y - band.y0) * w;
-    std::uint16_t* __restrict z = scratch.residuals.data() + o;
-    row_contexts(up, w, scratch.contexts.data() + o);
+    row_contexts(up, w, context);
     z[0] = zigzag(std::uint16_t(row[0] - (up ? up[0] : 0)));
     if (up) {
       for (int x = 1; x < w; ++x)
@@ -178,45 +191,23 @@ void residual_streams(const std::uint16_t* q, int w, const Band& band, BandScrat
     } else {
       for (int x = 1; x < w; ++x) z[x] = zigzag(std::uint16_t(row[x] - row[x - 1]));
     }
-  }
-  // Counting sort of the symbols by context, escapes in sample order. The band's two halves
-  // are sorted in one loop with their own counters: two independent chains of counter
-  // updates instead of one that stalls whenever a context repeats.
-  const std::uint8_t* __restrict context = scratch.contexts.data();
-  const std::uint16_t* __restrict residual = scratch.residuals.data();
-  const std::size_t half = n / 2;
-  std::array<std::array<std::uint32_t, kContexts>, 2> count{};
-  for (std::size_t i = 0; i < half; ++i) {
-    ++count[0][context[i]];
-    ++count[1][context[half + i]];
-  }
-  if (n % 2) ++count[1][context[n - 1]];
-  std::array<std::array<std::size_t, kContexts>, 2> at{};
-  std::size_t start = 0;
-  for (int k = 0; k < kContexts; ++k) {
-    scratch.counts[k] = count[0][k] + count[1][k];
-    at[0][k] = start;
-    at[1][k] = start + count[0][k];
-    start += scratch.counts[k];
-  }
-  std::array<std::vector<std::uint8_t>, 2> escaped;
-  scratch.streams.resize(n);
-  std::uint8_t* __restrict out = scratch.streams.data();
-  auto put = [&](int part, std::size_t i) {
-    const std::uint16_t v = residual[i];
-    out[at[part][context[i]]++] = std::uint8_t(std::min<std::uint16_t>(v, kEscape));
-    if (v >= kEscape) [[unlikely]] {
-      escaped[part].push_back(std::uint8_t(v));
-      escaped[part].push_back(std::uint8_t(v >> 8));
+    for (int x = 0; x < w; ++x) {
+      const std::uint16_t v = z[x];
+      *out[context[x]]++ = std::uint8_t(std::min<std::uint16_t>(v, kEscape));
+      if (v >= kEscape) [[unlikely]] {
+        escapes.push_back(std::uint8_t(v));
+        escapes.push_back(std::uint8_t(v >> 8));
+      }
     }
-  };
-  for (std::size_t i = 0; i < half; ++i) {
-    put(0, i);
-    put(1, half + i);
   }
-  if (n % 2) put(1, n - 1);
-  for (const auto& part : escaped)
-    scratch.streams.insert(scratch.streams.end(), part.begin(), part.end());
+  scratch.streams.resize(n + escapes.size());
+  std::uint8_t* joined = scratch.streams.data();
+  for (int k = 0; k < kContexts; ++k) {
+    scratch.counts[k] = std::uint32_t(out[k] - scratch.context_bytes[k].get());
+    std::memcpy(joined, scratch.context_bytes[k].get(), scratch.counts[k]);
+    joined += scratch.counts[k];
+  }
+  if (!escapes.empty()) std::memcpy(joined, escapes.data(), escapes.size());  // data() may be null
 }
 
 // Inverse of residual_streams over `content` (the decompressed band); throws on streams that
