@@ -65,7 +65,7 @@ struct ColorOptions {
   int quality = 90;
 };
 
-// The light setting, for links that cannot carry the default ~0.6-1.3 MB per 2048x1024 frame:
+// The light setting, for links that cannot carry the default ~0.8-1.2 MB per 2048x1024 frame:
 // distance at a quarter of the resolution per axis (the mean inverse distance of 4x4 blocks)
 // over 2048 levels, colour at JPEG quality 60. About 170-225 KB per frame (docs/performance.md
 // has the sizes and the error it adds).
