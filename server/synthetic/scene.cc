@@ -172,8 +172,8 @@ Scene Scene::hall(std::uint64_t seed, const std::vector<Eigen::Vector3f>& keep_c
     s.materials_.push_back(m);
     return int(s.materials_.size()) - 1;
   };
-  // A material of the pattern (index into `patterns`, or `pattern` when count is 0) and a
-  // scale drawn from [lo, hi]: the scale first, then the pattern.
+  // A new material: its scale drawn from [lo, hi] first, then its pattern drawn from the
+  // `count` patterns at `patterns` (no draw when count is 1).
   auto new_material = [&](const Pattern* patterns, int count, float lo, float hi) {
     const float scale = rng.uniform(lo, hi);
     const Pattern pattern = count > 1 ? patterns[rng.index(count)] : patterns[0];
