@@ -8,6 +8,7 @@
 #include <fastdds/dds/topic/TypeSupport.hpp>
 #include <filesystem>
 #include <mutex>
+#include <utility>
 #include <set>
 
 #include "omnisweep_msgsPubSubTypes.h"
@@ -18,9 +19,15 @@ namespace fdds = eprosima::fastdds::dds;
 using ReturnCode_t = eprosima::fastrtps::types::ReturnCode_t;
 
 namespace {
-constexpr const char* kSecurityFiles[] = {"identity_ca.pem", "cert.pem",
-                                          "key.pem",         "permissions_ca.pem",
-                                          "governance.p7s",  "permissions.p7s"};
+// The builtin DDS Security plugins' file properties and the file of a credentials folder
+// (deploy/security/make-credentials.sh) each one names.
+constexpr std::pair<const char*, const char*> kSecurityFiles[] = {
+    {"dds.sec.auth.builtin.PKI-DH.identity_ca", "identity_ca.pem"},
+    {"dds.sec.auth.builtin.PKI-DH.identity_certificate", "cert.pem"},
+    {"dds.sec.auth.builtin.PKI-DH.private_key", "key.pem"},
+    {"dds.sec.access.builtin.Access-Permissions.permissions_ca", "permissions_ca.pem"},
+    {"dds.sec.access.builtin.Access-Permissions.governance", "governance.p7s"},
+    {"dds.sec.access.builtin.Access-Permissions.permissions", "permissions.p7s"}};
 }  // namespace
 
 std::string topic_name(const std::string& prefix, TopicKind kind) {
@@ -53,7 +60,7 @@ void ParticipantOptions::check() const {
   if (!qos_file.empty() && !std::filesystem::is_regular_file(qos_file))
     throw DdsError("QoS profile file " + qos_file + " does not exist");
   if (!security_dir.empty()) {
-    for (const char* file : kSecurityFiles) {
+    for (const auto& [property, file] : kSecurityFiles) {
       if (!std::filesystem::is_regular_file(std::filesystem::path(security_dir) / file)) {
         throw DdsError("security folder " + security_dir + " has no " + file +
                        " (make one with deploy/security/make-credentials.sh)");
@@ -67,21 +74,15 @@ namespace {
 // The builtin DDS Security plugins' properties for the credentials in `dir`; paths as
 // file:///absolute URIs, the only form the plugins accept.
 void add_security_properties(const std::string& dir, fdds::DomainParticipantQos& qos) {
-  const auto uri = [&](const char* file) {
-    return "file://" + std::filesystem::absolute(std::filesystem::path(dir) / file).string();
-  };
   auto& properties = qos.properties().properties();
-  const std::pair<std::string, std::string> values[] = {
-      {"dds.sec.auth.plugin", "builtin.PKI-DH"},
-      {"dds.sec.auth.builtin.PKI-DH.identity_ca", uri("identity_ca.pem")},
-      {"dds.sec.auth.builtin.PKI-DH.identity_certificate", uri("cert.pem")},
-      {"dds.sec.auth.builtin.PKI-DH.private_key", uri("key.pem")},
-      {"dds.sec.access.plugin", "builtin.Access-Permissions"},
-      {"dds.sec.access.builtin.Access-Permissions.permissions_ca", uri("permissions_ca.pem")},
-      {"dds.sec.access.builtin.Access-Permissions.governance", uri("governance.p7s")},
-      {"dds.sec.access.builtin.Access-Permissions.permissions", uri("permissions.p7s")},
-      {"dds.sec.crypto.plugin", "builtin.AES-GCM-GMAC"}};
-  for (const auto& [name, value] : values) properties.emplace_back(name, value);
+  properties.emplace_back("dds.sec.auth.plugin", "builtin.PKI-DH");
+  properties.emplace_back("dds.sec.access.plugin", "builtin.Access-Permissions");
+  properties.emplace_back("dds.sec.crypto.plugin", "builtin.AES-GCM-GMAC");
+  for (const auto& [property, file] : kSecurityFiles) {
+    properties.emplace_back(
+        property,
+        "file://" + std::filesystem::absolute(std::filesystem::path(dir) / file).string());
+  }
 }
 
 }  // namespace
