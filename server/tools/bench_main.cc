@@ -1,9 +1,9 @@
 // omnisweep-bench: GPU time per depth stage at several matching resolutions, and the ISB filter
 // side by side with OpenCV's guided filter, fast bilateral solver and box filter on one
-// synthetic cost volume (the paper's Table 2 on this machine), the codecs against 16-bit PNG,
-// novel-view reprojection (bench_reproject.cc), MCAP recording (bench_record.cc) and streaming
-// with and without DDS Security (bench_security.cc). A benchmark,
-// not a test: it prints what it measured.
+// synthetic cost volume (the paper's Table 2 on this machine), the codecs against 16-bit PNG
+// (bench_codecs.cc), novel-view reprojection (bench_reproject.cc), MCAP recording
+// (bench_record.cc) and streaming with and without DDS Security (bench_security.cc). A
+// benchmark, not a test: it prints what it measured.
 #include <fcntl.h>
 #include <unistd.h>
 
@@ -21,15 +21,13 @@
 #include <vector>
 
 #include "client_sdk/tools/tool_main.h"
-#include "omnisweep/codec/codec.h"
-#include "omnisweep/dataset/dataset.h"
 #include "omnisweep/gpu/context.h"
 #include "omnisweep/image/image_io.h"
 #include "server/depth/depth_estimator.h"
 #include "server/depth/depth_fixtures.h"
 #include "server/depth/depth_inputs.h"
 #include "server/depth/depth_reference.h"
-#include "server/stitch/stitcher.h"
+#include "server/tools/bench_codecs.h"
 #include "server/tools/bench_record.h"
 #include "server/tools/bench_reproject.h"
 #include "server/tools/bench_security.h"
@@ -104,125 +102,6 @@ std::vector<float> per_slice(const std::vector<float>& volume, int width, int he
     for (int p = 0; p < width * height; ++p) out[std::size_t(p) * n + i] = filtered.at<float>(p);
   }
   return out;
-}
-
-// An estimated 2048x1024 panorama (defaults) of a frame: what the server compresses.
-stitch::Panorama estimate_panorama(gpu::Context& context, const Rig& rig,
-                                   const std::vector<Rgb8Image>& images,
-                                   const std::vector<std::optional<Gray8Image>>& masks_full) {
-  depth::DepthOptions options;
-  const Rig matching_rig = rig.resized(options.matching_width, options.matching_height);
-  const auto usable = depth::matching_masks(masks_full, options);
-  const std::vector<Rgb8Image> matching = depth::matching_images(images, options);
-  depth::DepthEstimator estimator(context, matching_rig, usable, options);
-  const depth::DepthResult result = estimator.estimate(depth::pointers(matching));
-  stitch::Stitcher stitcher(context, matching_rig, rig, options.references, usable, {});
-  return stitcher.stitch({&result.distance[0], &result.distance[1]}, {&images[2], &images[3]});
-}
-
-template <typename F>
-double median_ms(int runs, F&& f) {
-  std::vector<double> t;
-  for (int i = 0; i < runs; ++i) {
-    const auto start = Clock::now();
-    f();
-    t.push_back(std::chrono::duration<double, std::milli>(Clock::now() - start).count());
-  }
-  return median(t);
-}
-
-// Distance codec vs 16-bit PNG (ROS 2 compressedDepth) and JPEG sizes on estimated panoramas.
-void codec_section(gpu::Context& context, const std::string& kaist_dir, bool json) {
-  std::vector<std::pair<std::string, stitch::Panorama>> panoramas;
-  {
-    const synthetic::SyntheticRig rig;
-    synthetic::SyntheticFrame frame = rig.render(0, 64, 32);
-    std::vector<Rgb8Image> images;
-    std::vector<std::optional<Gray8Image>> masks;
-    for (auto& c : frame.cameras) images.push_back(std::move(c.rgb));
-    for (auto& m : rig.masks()) masks.emplace_back(std::move(m));
-    panoramas.emplace_back("synthetic", estimate_panorama(context, rig.rig(), images, masks));
-  }
-  if (!kaist_dir.empty() &&
-      std::filesystem::exists(std::filesystem::path(kaist_dir) / "calibration.json")) {
-    const Dataset kaist = Dataset::open(kaist_dir);
-    const Frame frame = kaist.load_frame(kaist.frames().at(0));
-    panoramas.emplace_back(
-        "kaist-rig",
-        estimate_panorama(context, kaist.rig(), depth::rgb8_images(frame), kaist.masks()));
-  }
-  const auto distance_codec = codec::make_distance_codec("qinv16-zstd");
-  const codec::DistanceParams full, light = codec::kLightDistance;
-  if (!json) {
-    std::printf("\nCodecs on estimated 2048x1024 panoramas (median of 5; sizes in KB)\n");
-    std::printf("%-10s %-38s %8s %10s %10s %10s %10s\n", "panorama", "codec", "KB", "encode ms",
-                "decode ms", "mean err", "max err");
-  }
-  auto row = [&](const std::string& pano, const std::string& name, std::size_t bytes, double enc,
-                 double dec, double mean_err, double err) {
-    if (json) {
-      std::printf(
-          "{\"kind\": \"codec\", \"panorama\": \"%s\", \"codec\": \"%s\", \"bytes\": %zu, "
-          "\"encode_ms\": %.3f, "
-          "\"decode_ms\": %.3f, \"mean_error\": %.6g, \"max_error\": %.6g}\n",
-          pano.c_str(), name.c_str(), bytes, enc, dec, mean_err, err);
-    } else {
-      std::printf("%-10s %-38s %8.1f %10.2f %10.2f %10.3g %10.3g\n", pano.c_str(), name.c_str(),
-                  bytes / 1024.0, enc, dec, mean_err, err);
-    }
-  };
-  for (const auto& entry : panoramas) {
-    // Named, not a structured binding: clang 14 (the sanitizer build) cannot capture one.
-    const std::string& label = entry.first;
-    const stitch::Panorama& pano = entry.second;
-    const int w = pano.distance.width(), h = pano.distance.height();
-    for (const auto* params : {&full, &light}) {
-      codec::Bytes bytes;
-      const double enc =
-          median_ms(5, [&] { bytes = distance_codec->encode(pano.distance, *params); });
-      FloatImage back;
-      const double dec = median_ms(5, [&] { back = distance_codec->decode(bytes, w, h, *params); });
-      double worst = 0, sum = 0;
-      std::size_t count = 0;
-      for (std::size_t i = 0; i < back.size(); ++i) {
-        const float d = pano.distance.data()[i];
-        if (d <= 0) continue;
-        const double error = std::abs(1.0 / back.data()[i] - 1.0 / d);
-        worst = std::max(worst, error);
-        sum += error;
-        ++count;
-      }
-      row(label,
-          params == &full ? "qinv16-zstd (default)"
-                          : "qinv16-zstd light (" + std::to_string(light.levels) + " levels, 1/" +
-                                std::to_string(light.downsample) + " res)",
-          bytes.size(), enc, dec, sum / double(std::max<std::size_t>(count, 1)), worst);
-    }
-    // 16-bit PNG of the same quantised levels, zlib level 1, as ROS 2 compressedDepth stores them.
-    cv::Mat levels(h, w, CV_16UC1);
-    const double lo = 1.0 / full.max_distance, hi = 1.0 / full.min_distance;
-    for (int p = 0; p < w * h; ++p) {
-      const float d = pano.distance.data()[p];
-      levels.at<std::uint16_t>(p) =
-          d > 0 ? std::uint16_t(1 + std::lround((std::clamp(1.0 / d, lo, hi) - lo) / (hi - lo) *
-                                                (full.levels - 1)))
-                : 0;
-    }
-    std::vector<std::uint8_t> png;
-    const double png_enc = median_ms(5, [&] {
-      cv::imencode(".png", levels, png, {cv::IMWRITE_PNG_COMPRESSION, 1});
-    });
-    const double png_dec = median_ms(5, [&] { cv::imdecode(png, cv::IMREAD_UNCHANGED); });
-    row(label, "png16 level 1 (same levels)", png.size(), png_enc, png_dec,
-        full.max_quantisation_error() / 2, full.max_quantisation_error());
-    for (int quality : {codec::ColorOptions{}.quality, codec::kLightJpegQuality}) {
-      const auto jpeg = codec::make_color_codec("jpeg", {.quality = quality});
-      codec::Bytes bytes;
-      const double enc = median_ms(5, [&] { bytes = jpeg->encode(pano.rgb); });
-      const double dec = median_ms(5, [&] { jpeg->decode(bytes, w, h); });
-      row(label, "jpeg q" + std::to_string(quality) + " (colour)", bytes.size(), enc, dec, 0, 0);
-    }
-  }
 }
 
 // 1. GPU time per stage, both references, at each resolution.
@@ -439,7 +318,7 @@ int run(int argc, char** argv) {
   };
   if (want("stages")) stage_section(context, resolutions, iterations, json);
   if (want("filters")) filter_section(context, filter_resolution, iterations, skip_fbs, json);
-  if (want("codecs")) codec_section(context, kaist_dir, json);
+  if (want("codecs")) tools::codec_section(context, kaist_dir, json);
   if (want("reproject")) tools::reproject_section(context, iterations, json);
   if (want("record")) tools::record_section(json);
   if (want("security")) tools::security_section(OMNISWEEP_SOURCE_DIR, json);

@@ -1,0 +1,17 @@
+// omnisweep-bench's codec section (bench_codecs.cc).
+#pragma once
+
+#include <string>
+
+#include "omnisweep/gpu/context.h"
+
+namespace omnisweep::tools {
+
+// Estimates 2048x1024 panoramas (the synthetic rig, and the kaist-rig frame when kaist_dir holds
+// it) and compresses them: the distance codec at the defaults side by side with 16-bit PNG at
+// level 1 (what ROS 2's compressedDepth stores), runs interleaved so both see the same machine
+// load, then the light setting and JPEG. Wall and CPU ms, sizes, quantisation error, and the
+// ratios against PNG.
+void codec_section(gpu::Context& context, const std::string& kaist_dir, bool json);
+
+}  // namespace omnisweep::tools
