@@ -99,42 +99,39 @@ void for_each_band(int count, const Job& job) {
   }
 }
 
-// Quantised levels (0 = no value) of rows [band.y0, band.y1) of the stored w-wide map.
-void quantise(const FloatImage& distance, const DistanceParams& params, int w, const Band& band,
-              std::uint16_t* q) {
+// Levels (0 = no value) of row y of the stored w-wide map.
+void quantise_row(const FloatImage& distance, const DistanceParams& params, int w, int y,
+                  std::uint16_t* q) {
   const float lo = 1.0f / params.max_distance, hi = 1.0f / params.min_distance;
   const float scale = float(params.levels - 1) / (hi - lo);
   const int ds = int(params.downsample);
   if (ds == 1) {
-    const std::size_t offset = std::size_t(band.y0) * w;
-    quantise_span(distance.data() + offset, std::size_t(band.y1 - band.y0) * w, lo, hi, scale,
-                  q + offset);
+    quantise_span(distance.data() + std::size_t(y) * w, std::size_t(w), lo, hi, scale, q);
     return;
   }
-  for (int y = band.y0; y < band.y1; ++y) {
-    for (int x = 0; x < w; ++x) {
-      float sum = 0;  // mean inverse distance of the valid pixels of the block
-      int n = 0;
-      for (int sy = y * ds; sy < std::min((y + 1) * ds, distance.height()); ++sy)
-        for (int sx = x * ds; sx < std::min((x + 1) * ds, distance.width()); ++sx) {
-          const float v = distance(sx, sy);
-          if (v > 0.0f && v < INFINITY) {
-            sum += 1.0f / v;
-            ++n;
-          }
+  for (int x = 0; x < w; ++x) {
+    float sum = 0;  // mean inverse distance of the valid pixels of the block
+    int n = 0;
+    for (int sy = y * ds; sy < std::min((y + 1) * ds, distance.height()); ++sy)
+      for (int sx = x * ds; sx < std::min((x + 1) * ds, distance.width()); ++sx) {
+        const float v = distance(sx, sy);
+        if (v > 0.0f && v < INFINITY) {
+          sum += 1.0f / v;
+          ++n;
         }
-      const float inv = n ? std::min(std::max(sum / float(n), lo), hi) : 0.0f;
-      q[std::size_t(y) * w + x] = std::uint16_t(n ? (inv - lo) * scale + 1.5f : 0.0f);
-    }
+      }
+    const float inv = n ? std::min(std::max(sum / float(n), lo), hi) : 0.0f;
+    q[x] = std::uint16_t(n ? (inv - lo) * scale + 1.5f : 0.0f);
   }
 }
 
 // What one band needs between frames: reusing the buffers and zstd contexts avoids
 // allocating (and page-faulting) megabytes per frame.
 struct BandScratch {
-  std::vector<std::uint16_t> residuals;                                  // one row
-  std::vector<std::uint8_t> contexts, differences, codes;                // one row
-  std::vector<std::uint8_t> escapes;                                     // the band's
+  std::vector<std::uint16_t> residuals;                    // one row
+  std::vector<std::uint16_t> levels;                       // encoder: this row's and the last row's
+  std::vector<std::uint8_t> contexts, differences, codes;  // one row
+  std::vector<std::uint8_t> escapes;                       // the band's
   std::array<std::unique_ptr<std::uint8_t[]>, kContexts> context_bytes;  // encoder
   std::size_t capacity = 0;                                              // of each
   std::vector<std::uint8_t> streams;  // the band's streams, joined
@@ -197,7 +194,8 @@ void pair_contexts(const std::uint16_t* __restrict up, int w, std::uint8_t* __re
 // is planar, left + up - up-left (left on a band's first row, up in the first column), in
 // arithmetic modulo 2^16. One pass: each row's residuals and contexts stay in cache, and each
 // pair goes straight to its context's buffer.
-void residual_streams(const std::uint16_t* q, int w, const Band& band, BandScratch& scratch) {
+void residual_streams(const FloatImage& distance, const DistanceParams& params, int w,
+                      const Band& band, BandScratch& scratch) {
   const std::size_t rows = std::size_t(band.y1 - band.y0);
   // At most 3 bytes per pair (escaped pair code) and one per lone sample, in any one stream.
   const std::size_t bound = rows * (3 * std::size_t(w / 2) + 1);
@@ -212,6 +210,9 @@ void residual_streams(const std::uint16_t* q, int w, const Band& band, BandScrat
   scratch.contexts.resize(w);
   scratch.differences.resize(w);
   scratch.codes.resize(w);
+  scratch.levels.resize(2 * std::size_t(w));
+  std::uint16_t* level_row = scratch.levels.data();
+  std::uint16_t* last_row = level_row + w;
   std::uint16_t* __restrict z = scratch.residuals.data();
   std::uint8_t* __restrict context = scratch.contexts.data();
   std::uint8_t* __restrict code = scratch.codes.data();
@@ -226,8 +227,10 @@ void residual_streams(const std::uint16_t* q, int w, const Band& band, BandScrat
   };
   const int pairs = w / 2;
   for (int y = band.y0; y < band.y1; ++y) {
-    const std::uint16_t* __restrict row = q + std::size_t(y) * w;
-    const std::uint16_t* __restrict up = y == band.y0 ? nullptr : row - w;
+    std::swap(level_row, last_row);
+    quantise_row(distance, params, w, y, level_row);
+    const std::uint16_t* __restrict row = level_row;
+    const std::uint16_t* __restrict up = y == band.y0 ? nullptr : last_row;
     pair_contexts(up, w, scratch.differences.data(), context);
     z[0] = zigzag(std::uint16_t(row[0] - (up ? up[0] : 0)));
     if (up) {
@@ -347,7 +350,7 @@ void reconstruct(std::span<const std::uint8_t> content,
 class QuantisedInverseDistanceCodec final : public DistanceCodec {
   // Scratch reused across calls; the mutex makes concurrent calls on one codec safe.
   mutable std::mutex mutex_;
-  mutable std::vector<std::uint16_t> levels_;
+  mutable std::vector<std::uint16_t> levels_;  // the decoder's
   mutable std::array<BandScratch, kBands> bands_;
 
  public:
@@ -360,12 +363,10 @@ class QuantisedInverseDistanceCodec final : public DistanceCodec {
     const int ds = int(params.downsample);
     const int w = (distance.width() + ds - 1) / ds, h = (distance.height() + ds - 1) / ds;
     const std::lock_guard lock(mutex_);
-    levels_.resize(std::size_t(w) * h);
     const std::vector<Band> bands = bands_of(h);
     for_each_band(int(bands.size()), [&](int i) {
-      quantise(distance, params, w, bands[i], levels_.data());
       BandScratch& scratch = bands_[i];
-      residual_streams(levels_.data(), w, bands[i], scratch);
+      residual_streams(distance, params, w, bands[i], scratch);
       if (!scratch.cctx) {
         scratch.cctx.reset(ZSTD_createCCtx());
         if (!scratch.cctx) throw CodecError("qinv16-zstd: out of memory");
