@@ -6,6 +6,8 @@
 
 #include <cmath>
 #include <random>
+#include <utility>
+#include <vector>
 
 namespace omnisweep::codec {
 namespace {
@@ -99,6 +101,51 @@ TEST(DistanceCodec, RoundTripKeepsHolesAndTheLightSetting) {
   EXPECT_EQ(coarse.width(), 200);
   EXPECT_GT(coarse(10, 60), 0.0f);
   EXPECT_LT(small.size(), codec->encode(d, full).size());
+}
+
+// Odd and tiny shapes (a lone last sample per row, rows of one pair, bands of one row) and
+// noise from none to wild, so pair codes, escaped pairs, unpaired contexts and 16-bit escapes
+// all occur: every sample comes back within the bound, holes stay holes.
+TEST(DistanceCodec, RoundTripsAnyShape) {
+  const auto codec = make_distance_codec("qinv16-zstd");
+  const DistanceParams params;
+  std::mt19937 rng(11);
+  for (const auto& [w, h] : std::vector<std::pair<int, int>>{
+           {1, 1}, {2, 1}, {1, 3}, {3, 5}, {7, 2}, {5, 9}, {33, 4}, {201, 9}, {64, 64}}) {
+    FloatImage d(w, h, 1);
+    std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        const float amplitude = std::pow(10.0f, -4.0f + 4.0f * float(x) / float(w));  // 1e-4..1
+        const float inverse =
+            0.5f + 0.3f * std::sin(0.1f * float(x + y)) + amplitude * (unit(rng) - 0.5f);
+        d(x, y) = unit(rng) < 0.02f ? 0.0f : 1.0f / std::clamp(inverse, 0.01f, 1.8f);
+      }
+    const FloatImage back = codec->decode(codec->encode(d, params), w, h, params);
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        if (d(x, y) == 0.0f) {
+          ASSERT_EQ(back(x, y), 0.0f) << w << "x" << h << " at " << x << "," << y;
+          continue;
+        }
+        ASSERT_NEAR(1.0 / back(x, y), 1.0 / d(x, y), params.max_quantisation_error() * 1.01)
+            << w << "x" << h << " at " << x << "," << y;
+      }
+  }
+}
+
+TEST(DistanceCodec, PreReleasePayloadsAreNamed) {
+  const auto codec = make_distance_codec("qinv16-zstd");
+  Bytes old = codec->encode(test_distance(64, 48), DistanceParams{});
+  std::copy_n("OSQ3", 4, old.begin());
+  try {
+    codec->decode(old, 64, 48, DistanceParams{});
+    FAIL() << "an OSQ3 payload was accepted";
+  } catch (const CodecError& e) {
+    EXPECT_NE(std::string(e.what()).find("an OSQ3 payload from a pre-release omnisweep"),
+              std::string::npos)
+        << e.what();
+  }
 }
 
 TEST(DistanceCodec, BadPayloadsAreErrors) {

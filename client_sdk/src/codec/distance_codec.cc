@@ -84,9 +84,14 @@ void for_each_band(int count, const Job& job) {
 }
 
 // Levels of n distances, branch-free so the compiler vectorises it. Kept out of line and
-// unspecialised (noipa): GCC 12 vectorises this loop on its own, but neither inlined into
-// quantise ("control flow in loop") nor in a clone for constant bounds.
-[[gnu::noipa]] void quantise_span(const float* __restrict d, std::size_t n, float lo, float hi,
+// unspecialised: GCC 12 vectorises this loop on its own, but neither inlined into its caller
+// ("control flow in loop") nor in a clone for constant bounds (noipa; clang has no such clones).
+#if defined(__clang__)
+[[gnu::noinline]]
+#else
+[[gnu::noipa]]
+#endif
+void quantise_span(const float* __restrict d, std::size_t n, float lo, float hi,
                                   float scale, std::uint16_t* __restrict out) {
   for (std::size_t i = 0; i < n; ++i) {
     const float v = d[i], r = 1.0f / v;
@@ -243,7 +248,7 @@ void residual_streams(const FloatImage& distance, const DistanceParams& params, 
     for (int j = 0; j < pairs; ++j) {
       const std::uint32_t z0 = z[2 * j], z1 = z[2 * j + 1];
       code[j] =
-          (z0 < kPairBase) & (z1 < kPairBase) ? std::uint8_t(z0 * kPairBase + z1) : kPairEscape;
+          ((z0 < kPairBase) & (z1 < kPairBase)) ? std::uint8_t(z0 * kPairBase + z1) : kPairEscape;
     }
     for (int j = 0; j < pairs; ++j) {
       std::uint8_t*& stream = out[context[j]];
@@ -313,7 +318,7 @@ void reconstruct(std::span<const std::uint8_t> content,
     pair_contexts(up, w, scratch.differences.data(), context);
     for (int j = 0; j < pairs; ++j) {
       const int k = context[j];
-      std::uint16_t z0, z1;
+      std::uint16_t z0 = 0, z1 = 0;
       if (k < kPairedContexts) {
         const std::uint8_t code = byte(k);
         if (code < kPairBase * kPairBase) {
