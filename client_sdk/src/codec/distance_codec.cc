@@ -149,11 +149,11 @@ struct BandScratch {
 // Samples are coded in horizontal pairs (x = 2j, 2j + 1). A pair's context is how much the row
 // above varies over it: the bit width of s = |b0 - c| + |b1 - b0| + |d - b1| (c up-left of the
 // pair, b0 b1 above it, d up-right; each term capped at 127), 0, 1, 2-3, ..., 64 and more: 8
-// classes. The last class also takes a band's first row, the first and last pairs of a row and
-// the lone last sample of an odd-width row. Only the row above is used, so the decoder knows a
-// row's contexts before it decodes the row. Each class's bytes form their own stream, which
-// zstd codes with its own Huffman tables: a class's residuals are much narrower than the
-// mixture's.
+// classes. The last class also takes a band's first row, pairs without c or d (a row's first
+// pair, its last when the width is even) and the lone last sample of an odd-width row. Only the row
+// above is used, so the decoder knows a row's contexts before it decodes the row. Each class's
+// bytes form their own stream, which zstd codes with its own Huffman tables: a class's residuals
+// are much narrower than the mixture's.
 constexpr std::uint8_t kEdgeContext = kContexts - 1;
 // Pairs in the classes below this are joint-coded, z0 * kPairBase + z1 in one byte when both
 // zigzagged residuals are under kPairBase: where the jitter is small a byte per pair halves
