@@ -1,6 +1,7 @@
 // omnisweep-server and omnisweep-subscribe as users run them, on loopback: frames arrive and
 // equal what the server computed, a late subscriber gets the calibration, status comes once a
-// second, SIGTERM ends the server within a second with exit code 0, and bad input is refused.
+// second, the frame budget holds, SIGTERM ends the server within a second with exit code 0, and
+// bad input is refused.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -119,6 +120,49 @@ TEST_F(ServerTest, StatusArrivesOnceASecond) {
   EXPECT_NE(out.find("ms: capture"), std::string::npos) << out;
   double seconds = 0;
   EXPECT_EQ(server.stop(SIGTERM, 5, &seconds), 0) << server.log();
+}
+
+// The frame budget: with a budget below the stream's frame size the server lowers the colour
+// quality (reported in its status) until frames fit, and every frame still arrives.
+TEST_F(ServerTest, FrameBudgetLowersTheColourQualityUntilFramesFit) {
+  auto run = [&](const std::string& budget, std::string* out) {
+    BackgroundProcess server(server_command(" --max-frame-bytes " + budget + " --dump " +
+                                            (dir_.path() / budget).string()),
+                             dir_.path() / ("server_" + budget + ".log"));
+    const int code = run_command(subscribe_command(" --frames 4 --statuses 2 --timeout 60"), out);
+    double seconds = 0;
+    EXPECT_EQ(server.stop(SIGTERM, 5, &seconds), 0) << server.log();
+    return code;
+  };
+  const std::regex per_frame(R"(([0-9]+) KB per frame)"), quality(R"(colour quality ([0-9]+))");
+  std::smatch m;
+  std::string out;
+  ASSERT_EQ(run("0", &out), 0) << out;
+  ASSERT_TRUE(std::regex_search(out, m, per_frame)) << out;
+  const double unlimited_kb = std::stod(m[1]);
+  ASSERT_TRUE(std::regex_search(out, m, quality)) << out;
+  EXPECT_EQ(m[1], "90") << out;
+
+  // A budget that leaves the colour 70 % of its size at quality 90.
+  double jpeg_bytes = 0;
+  int jpegs = 0;
+  for (const auto& entry : fs::directory_iterator(dir_.path() / "0"))
+    if (entry.path().extension() == ".jpg") {
+      jpeg_bytes += double(fs::file_size(entry.path()));
+      ++jpegs;
+    }
+  ASSERT_GT(jpegs, 0);
+  const auto budget = std::size_t(unlimited_kb * 1024 - 0.3 * jpeg_bytes / jpegs);
+  ASSERT_EQ(run(std::to_string(budget), &out), 0) << out;
+  EXPECT_NE(out.find("summary: 4 frames decoded"), std::string::npos) << out;
+  ASSERT_TRUE(std::regex_search(out, m, per_frame)) << out;
+  EXPECT_LE(std::stod(m[1]), double(budget) / 1024 + 0.5) << out;  // the summary rounds
+  int lowest = 100;
+  for (std::sregex_iterator it(out.begin(), out.end(), quality), end; it != end; ++it)
+    lowest = std::min(lowest, std::stoi((*it)[1]));
+  EXPECT_LT(lowest, 90) << out;
+  EXPECT_GE(lowest, 50) << out;
+  EXPECT_EQ(out.find("over budget"), std::string::npos) << out;
 }
 
 TEST_F(ServerTest, SigtermStopsWithinOneSecondWithExitCodeZero) {

@@ -120,6 +120,10 @@ int run(int argc, char** argv) {
                 std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(),
                 s.state().c_str(), s.fps_in(), s.fps_out(), s.matched_subscribers());
     for (const auto& t : s.stage_ms()) std::printf(" %s %.1f", t.stage().c_str(), t.ms());
+    std::printf(", colour quality %d", s.color_quality());
+    if (s.frames_over_budget())
+      std::printf(", %llu frames over budget",
+                  static_cast<unsigned long long>(s.frames_over_budget()));
     for (const auto& d : s.dropped())
       std::printf(", dropped (%s) %llu", d.reason().c_str(),
                   static_cast<unsigned long long>(d.count()));

@@ -44,7 +44,7 @@ struct RgbdServer::Job {
   std::uint64_t sequence = 0;
   std::vector<std::uint64_t> capture_time_ns;
   std::uint64_t processing_start_ns = 0;
-  std::vector<Rgb8Image> images;  // full resolution
+  std::vector<Rgb8Image> images;     // full resolution
   std::vector<FloatImage> distance;  // per reference, matching resolution
   stitch::Panorama panorama;
   msg::RgbdFrame message;
@@ -55,16 +55,17 @@ struct RgbdServer::Stages {
   std::vector<std::optional<Gray8Image>> masks;
   depth::DepthEstimator estimator;
   stitch::Stitcher stitcher;
-  std::unique_ptr<codec::ColorCodec> color_codec;
+  std::unique_ptr<codec::ColorCodec> color_codec;  // its name goes in the description
   std::unique_ptr<codec::DistanceCodec> distance_codec;
+  FrameBudget budget;  // encodes the colour
   msg::StreamDescription description;
   BoundedQueue<std::shared_ptr<Job>> to_depth{1}, to_stitch{1}, to_encode{2}, to_publish{2};
 
   Stages(gpu::Context& context, const capture::FrameSource& source, const ServerOptions& o)
       : matching_rig(source.rig().resized(o.depth.matching_width, o.depth.matching_height)),
-        colour_rig(o.rgb_resolution ? source.rig().resized(o.rgb_resolution->first,
-                                                           o.rgb_resolution->second)
-                                    : source.rig()),
+        colour_rig(o.rgb_resolution
+                       ? source.rig().resized(o.rgb_resolution->first, o.rgb_resolution->second)
+                       : source.rig()),
         masks(depth::matching_masks(source.masks(), o.depth)),
         estimator(context, matching_rig, masks, o.depth),
         stitcher(context, matching_rig, colour_rig, o.depth.references, masks,
@@ -74,7 +75,8 @@ struct RgbdServer::Stages {
                                        .min_distance = o.depth.min_distance,
                                        .max_distance = o.depth.max_distance}),
         color_codec(codec::make_color_codec("jpeg", {.quality = o.jpeg_quality})),
-        distance_codec(codec::make_distance_codec("qinv16-zstd")) {}
+        distance_codec(codec::make_distance_codec("qinv16-zstd")),
+        budget(o.jpeg_quality, o.max_frame_bytes) {}
 };
 
 RgbdServer::RgbdServer(std::unique_ptr<capture::FrameSource> source, gpu::Context& context,
@@ -201,7 +203,8 @@ void RgbdServer::capture_loop() {
       }
       std::fprintf(stderr, "omnisweep-server: source stalled: %s\n", e.what());
       if (options_.exit_on_source_end) throw;
-      for (int i = 0; i < 10 && !stop_; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(100));
+      for (int i = 0; i < 10 && !stop_; ++i)
+        std::this_thread::sleep_for(std::chrono::milliseconds(100));
       continue;
     }
     if (!frame) {
@@ -251,8 +254,7 @@ void RgbdServer::stitch_loop() {
     const auto start = Clock::now();
     const std::vector<Rgb8Image> colour =
         depth::reference_colour_images(job.images, stages_->colour_rig, options_.depth.references);
-    job.panorama =
-        stages_->stitcher.stitch(depth::pointers(job.distance), depth::pointers(colour));
+    job.panorama = stages_->stitcher.stitch(depth::pointers(job.distance), depth::pointers(colour));
     job.images.clear();
     job.distance.clear();
     add_stage_time("stitch", ms_since(start));
@@ -264,9 +266,21 @@ void RgbdServer::encode_loop() {
   while (auto item = stages_->to_encode.pop()) {
     Job& job = **item;
     const auto start = Clock::now();
-    const codec::Bytes colour = stages_->color_codec->encode(job.panorama.rgb);
     const codec::Bytes distance =
         stages_->distance_codec->encode(job.panorama.distance, options_.distance);
+    const int quality_before = stages_->budget.quality();
+    FrameBudget::Colour encoded = stages_->budget.encode(job.panorama.rgb, distance.size());
+    const codec::Bytes& colour = encoded.bytes;
+    color_quality_ = encoded.quality;
+    if (encoded.over_budget) ++frames_over_budget_;
+    if (encoded.quality != quality_before) {
+      std::fprintf(stderr,
+                   "omnisweep-server: colour JPEG quality %d -> %d (frame of %zu bytes, budget "
+                   "%zu)%s\n",
+                   quality_before, encoded.quality, colour.size() + distance.size(),
+                   options_.max_frame_bytes,
+                   encoded.over_budget ? ": over budget even at the lowest quality" : "");
+    }
     msg::RgbdFrame& m = job.message;
     m.sequence_number(job.sequence);
     m.description_revision(stages_->description.revision());
@@ -339,6 +353,8 @@ msg::ServerStatus RgbdServer::make_status() {
     dropped.push_back(d);
   }
   s.dropped(dropped);
+  s.color_quality(color_quality_);
+  s.frames_over_budget(frames_over_budget_);
   return s;
 }
 
@@ -388,10 +404,10 @@ void RgbdServer::status_loop() {
       for (const auto& d : status.dropped()) drops += d.count();
       std::fprintf(stderr,
                    "omnisweep-server: %s, %.0f fps in, %.0f fps out, ms:%s, %llu dropped, %d "
-                   "subscribers, %llu published\n",
+                   "subscribers, %llu published, colour quality %d\n",
                    status.state().c_str(), status.fps_in(), status.fps_out(), stages.c_str(),
                    static_cast<unsigned long long>(drops), status.matched_subscribers(),
-                   static_cast<unsigned long long>(published_.load()));
+                   static_cast<unsigned long long>(published_.load()), status.color_quality());
     }
   }
 }

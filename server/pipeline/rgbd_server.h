@@ -16,10 +16,11 @@
 #include <vector>
 
 #include "omnisweep/codec/codec.h"
+#include "omnisweep/dds/stream_publisher.h"
 #include "omnisweep/gpu/context.h"
 #include "server/capture/frame_source.h"
 #include "server/depth/depth_options.h"
-#include "omnisweep/dds/stream_publisher.h"
+#include "server/pipeline/frame_budget.h"
 #include "server/stitch/stitcher.h"
 
 namespace omnisweep::pipeline {
@@ -28,10 +29,13 @@ struct ServerOptions {
   depth::DepthOptions depth;
   int panorama_width = 2048;
   int panorama_height = 1024;
-  std::optional<Eigen::Vector3d> viewpoint;  // rig frame; default: mean of the references
+  std::optional<Eigen::Vector3d> viewpoint;           // rig frame; default: mean of the references
   std::optional<std::pair<int, int>> rgb_resolution;  // colour sampling size; default: images'
   double fps = 30.0;                                  // capture cap, frames per second
-  int jpeg_quality = 90;
+  int jpeg_quality = 90;                              // the highest; the frame budget may lower it
+  // Colour + distance payload bytes per frame: a frame that would be larger gets a lower JPEG
+  // quality, down to FrameBudget::kFloorQuality (0: no budget).
+  std::size_t max_frame_bytes = 1000000;
   codec::DistanceParams distance;  // min/max distance are taken from `depth`
   std::uint64_t max_frames = 0;    // stop after publishing this many (0: until stopped)
   std::string dump_dir;  // when set: <seq>.jpg and <seq>_distance.f32 of every published frame
@@ -84,6 +88,8 @@ class RgbdServer {
   std::atomic<bool> stop_{false};
   std::atomic<bool> finished_{false};
   std::atomic<std::uint64_t> published_{0};
+  std::atomic<int> color_quality_{0};                 // of the last frame encoded
+  std::atomic<std::uint64_t> frames_over_budget_{0};  // even at the floor quality
   std::vector<std::thread> threads_;
   std::atomic<int> running_threads_{0};
   std::atomic<bool> publish_ended_{false}, status_ended_{false};

@@ -55,8 +55,12 @@ int run(int argc, char** argv) {
   app.add_option("--viewpoint", viewpoint,
                  "Panorama centre x y z in the rig frame, metres (default: mean of the references)")
       ->expected(3);
-  app.add_option("--jpeg-quality", options.jpeg_quality, "Colour JPEG quality")
+  app.add_option("--jpeg-quality", options.jpeg_quality,
+                 "Colour JPEG quality (the frame budget may lower it)")
       ->check(CLI::Range(1, 100));
+  app.add_option("--max-frame-bytes", options.max_frame_bytes,
+                 "Colour + distance bytes per frame: larger frames get a lower JPEG quality, down "
+                 "to 50 (0: no limit; --light: 250000)");
   app.add_option("--distance-levels", options.distance.levels,
                  "Quantisation levels of inverse distance (default 10000: error <= 9.04e-5 m^-1)")
       ->check(CLI::Range(2, 65535));
@@ -86,6 +90,7 @@ int run(int argc, char** argv) {
     options.distance.levels = codec::kLightDistance.levels;
     options.distance.downsample = codec::kLightDistance.downsample;
     options.jpeg_quality = codec::kLightJpegQuality;
+    if (app.count("--max-frame-bytes") == 0) options.max_frame_bytes = 250000;
   }
 
   // SIGINT and SIGTERM are taken by sigtimedwait below; block them before any thread starts
