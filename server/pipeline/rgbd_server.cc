@@ -88,6 +88,7 @@ RgbdServer::RgbdServer(std::unique_ptr<capture::FrameSource> source, gpu::Contex
   options_.distance.max_distance = float(options_.depth.max_distance);
   options_.distance.check();
   stages_ = std::make_unique<Stages>(context, *source_, options_);
+  color_quality_ = options_.jpeg_quality;
   cameras_ = source_->camera_status();
   msg::StreamDescription& d = stages_->description;
   wire::add_rig(source_->rig(), &d);
