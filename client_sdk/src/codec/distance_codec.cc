@@ -83,16 +83,24 @@ void for_each_band(int count, const Job& job) {
     if (error) std::rethrow_exception(error);
 }
 
-// Levels of n distances, branch-free so the compiler vectorises it. Kept out of line and
-// unspecialised: GCC 12 vectorises this loop on its own, but neither inlined into its caller
-// ("control flow in loop") nor in a clone for constant bounds (noipa; clang has no such clones).
-#if defined(__clang__)
-[[gnu::noinline]]
+// The loops below vectorise; on x86-64 GCC also builds them for AVX2 and picks that build at
+// load time where the processor has it (function multi-versioning): Debian's baseline is SSE2,
+// and AVX2 takes 40-60 % off these loops (quantiser 1.22 -> 0.72 ms, contexts 1.83 -> 0.76 ms per
+// 2048x1024 map here). The results are the same bits either way (integer arithmetic, and no FMA
+// in either build).
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+#define OMNISWEEP_AVX2_CLONES __attribute__((target_clones("avx2", "default")))
 #else
-[[gnu::noipa]]
+#define OMNISWEEP_AVX2_CLONES
 #endif
-void quantise_span(const float* __restrict d, std::size_t n, float lo, float hi,
-                                  float scale, std::uint16_t* __restrict out) {
+
+// Levels of n distances, branch-free so the compiler vectorises it. Kept out of line: GCC 12
+// vectorises this loop on its own but not once inlined into its caller ("control flow in loop").
+// (A clone of it for constant bounds, which GCC may also make, is not vectorised; the
+// multi-versioned build is never cloned so.)
+[[gnu::noinline]] OMNISWEEP_AVX2_CLONES void quantise_span(const float* __restrict d, std::size_t n,
+                                                           float lo, float hi, float scale,
+                                                           std::uint16_t* __restrict out) {
   for (std::size_t i = 0; i < n; ++i) {
     const float v = d[i], r = 1.0f / v;
     // A NaN r fails r > lo and becomes lo: no NaN reaches the conversion to int below (UB).
@@ -171,8 +179,8 @@ constexpr std::uint8_t kEscape = 255;
 // row) into k; e is scratch of w bytes. Both loops vectorise: the capped differences, then
 // the class of each pair's sum s <= 381, its bit width read off the exponent of float(s)
 // (exact for integers this small; 0 for s = 0).
-void pair_contexts(const std::uint16_t* __restrict up, int w, std::uint8_t* __restrict e,
-                   std::uint8_t* __restrict k) {
+OMNISWEEP_AVX2_CLONES void pair_contexts(const std::uint16_t* __restrict up, int w,
+                                         std::uint8_t* __restrict e, std::uint8_t* __restrict k) {
   static_assert(std::numeric_limits<float>::is_iec559, "the class reads a float's exponent");
   const int slots = (w + 1) / 2;
   if (!up) {
@@ -194,11 +202,31 @@ void pair_contexts(const std::uint16_t* __restrict up, int w, std::uint8_t* __re
   for (int j = std::max(1, (w - 1) / 2); j < slots; ++j) k[j] = kEdgeContext;
 }
 
+// The zigzagged residuals z of a row and every pair's joint code. The prediction is planar,
+// left + up - up-left (left on a band's first row, up in the first column), in arithmetic
+// modulo 2^16.
+OMNISWEEP_AVX2_CLONES void row_residuals(const std::uint16_t* __restrict row,
+                                         const std::uint16_t* __restrict up, int w,
+                                         std::uint16_t* __restrict z,
+                                         std::uint8_t* __restrict code) {
+  z[0] = zigzag(std::uint16_t(row[0] - (up ? up[0] : 0)));
+  if (up) {
+    for (int x = 1; x < w; ++x)
+      z[x] = zigzag(std::uint16_t(row[x] - row[x - 1] - up[x] + up[x - 1]));
+  } else {
+    for (int x = 1; x < w; ++x) z[x] = zigzag(std::uint16_t(row[x] - row[x - 1]));
+  }
+  for (int j = 0; j < w / 2; ++j) {
+    const std::uint32_t z0 = z[2 * j], z1 = z[2 * j + 1];
+    code[j] =
+        ((z0 < kPairBase) & (z1 < kPairBase)) ? std::uint8_t(z0 * kPairBase + z1) : kPairEscape;
+  }
+}
+
 // Encodes rows [y0, y1) of the stored map into scratch.streams: the kContexts context streams
-// one after another (byte lengths in scratch.lengths), then the escape stream. The prediction
-// is planar, left + up - up-left (left on a band's first row, up in the first column), in
-// arithmetic modulo 2^16. One pass: each row's residuals and contexts stay in cache, and each
-// pair goes straight to its context's buffer.
+// one after another (byte lengths in scratch.lengths), then the escape stream. One pass: each
+// row is quantised as it comes, its residuals and contexts stay in cache, and each pair goes
+// straight to its context's buffer.
 void residual_streams(const FloatImage& distance, const DistanceParams& params, int w,
                       const Band& band, BandScratch& scratch) {
   const std::size_t rows = std::size_t(band.y1 - band.y0);
@@ -237,19 +265,7 @@ void residual_streams(const FloatImage& distance, const DistanceParams& params, 
     const std::uint16_t* __restrict row = level_row;
     const std::uint16_t* __restrict up = y == band.y0 ? nullptr : last_row;
     pair_contexts(up, w, scratch.differences.data(), context);
-    z[0] = zigzag(std::uint16_t(row[0] - (up ? up[0] : 0)));
-    if (up) {
-      for (int x = 1; x < w; ++x)
-        z[x] = zigzag(std::uint16_t(row[x] - row[x - 1] - up[x] + up[x - 1]));
-    } else {
-      for (int x = 1; x < w; ++x) z[x] = zigzag(std::uint16_t(row[x] - row[x - 1]));
-    }
-    // Every pair's joint code (a loop that vectorises), then each pair to its stream.
-    for (int j = 0; j < pairs; ++j) {
-      const std::uint32_t z0 = z[2 * j], z1 = z[2 * j + 1];
-      code[j] =
-          ((z0 < kPairBase) & (z1 < kPairBase)) ? std::uint8_t(z0 * kPairBase + z1) : kPairEscape;
-    }
+    row_residuals(row, up, w, z, code);
     for (int j = 0; j < pairs; ++j) {
       std::uint8_t*& stream = out[context[j]];
       if (context[j] < kPairedContexts) {
