@@ -197,6 +197,8 @@ TEST_F(ServerTest, BadInputGivesAClearErrorAndNonZeroExit) {
        "camera 0 (video /nonexistent/a.mp4) does not open"},
       {" --topic-prefix 'bad prefix'", "topic prefix"},
       {" --domain 300", "--domain"},
+      {" --frames -5", "must be a whole number of 0 or more, got -5"},
+      {" --max-frame-bytes -1", "must be a whole number of 0 or more, got -1"},
       {" --source dataset:" + (dir_.path() / "data").string() + " --references 2 9", "reference"},
   };
   for (const Case& c : cases) {

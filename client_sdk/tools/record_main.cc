@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <thread>
 
+#include "client_sdk/tools/cli_checks.h"
 #include "client_sdk/tools/dds_flags.h"
 #include "client_sdk/tools/tool_main.h"
 #include "omnisweep/dds/stream_subscriber.h"
@@ -33,7 +34,8 @@ int run(int argc, char** argv) {
   app.add_option("--output", output, "MCAP file to write (replaced if it exists)")->required();
   tools::add_dds_flags(app, options);
   app.add_option("--profile", profile, "Frame QoS: reliable (every frame, default) or live");
-  app.add_option("--frames", want_frames, "Stop after this many frames");
+  app.add_option("--frames", want_frames, "Stop after this many frames")
+      ->check(tools::not_negative());
   app.add_option("--duration", duration_s, "Stop after this many seconds")
       ->check(CLI::Range(0.0, 1e7));
   app.add_flag("--verbose", verbose, "Print every frame as it is recorded (sequence number, time)");

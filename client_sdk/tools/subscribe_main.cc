@@ -15,6 +15,7 @@
 #include <mutex>
 #include <thread>
 
+#include "client_sdk/tools/cli_checks.h"
 #include "client_sdk/tools/dds_flags.h"
 #include "client_sdk/tools/tool_main.h"
 #include "omnisweep/dds/stream_subscriber.h"
@@ -45,8 +46,10 @@ int run(int argc, char** argv) {
   double timeout_s = 60;
   tools::add_dds_flags(app, options);
   app.add_option("--profile", profile, "Frame QoS: live (newest frames) or reliable (every frame)");
-  app.add_option("--frames", want_frames, "Exit 0 after this many decoded frames");
-  app.add_option("--statuses", want_statuses, "Exit 0 after this many status messages");
+  app.add_option("--frames", want_frames, "Exit 0 after this many decoded frames")
+      ->check(tools::not_negative());
+  app.add_option("--statuses", want_statuses, "Exit 0 after this many status messages")
+      ->check(tools::not_negative());
   app.add_flag("--description", want_description, "Exit 0 only once the calibration arrived");
   app.add_option("--timeout", timeout_s, "Exit 1 if the conditions are not met by then (s)")
       ->check(CLI::Range(0.1, 1e6));

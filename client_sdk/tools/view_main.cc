@@ -15,6 +15,7 @@
 #include <numbers>
 #include <thread>
 
+#include "client_sdk/tools/cli_checks.h"
 #include "client_sdk/tools/dds_flags.h"
 #include "client_sdk/tools/tool_main.h"
 #include "omnisweep/client/rgbd_subscriber.h"
@@ -118,7 +119,8 @@ int run(int argc, char** argv) {
   tools::add_dds_flags(app, options.participant);
   app.add_option("--profile", options.profile, "Frame QoS: live or reliable");
   app.add_option("--frames", want_frames,
-                 "Exit 0 after this many frames (default: run until Ctrl-C)");
+                 "Exit 0 after this many frames (default: run until Ctrl-C)")
+      ->check(tools::not_negative());
   app.add_option("--timeout", timeout_s,
                  "With --frames: exit 1 if they have not arrived by then (s)")
       ->check(CLI::Range(0.1, 1e6));

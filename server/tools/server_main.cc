@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <ctime>
 
+#include "client_sdk/tools/cli_checks.h"
 #include "client_sdk/tools/dds_flags.h"
 #include "client_sdk/tools/tool_main.h"
 #include "omnisweep/dds/stream_publisher.h"
@@ -60,7 +61,8 @@ int run(int argc, char** argv) {
       ->check(CLI::Range(1, 100));
   app.add_option("--max-frame-bytes", options.max_frame_bytes,
                  "Colour + distance bytes per frame: larger frames get a lower JPEG quality, down "
-                 "to 50 (0: no limit; --light: 250000)");
+                 "to 50 (0: no limit; --light: 250000)")
+      ->check(tools::not_negative());
   app.add_option("--distance-levels", options.distance.levels,
                  "Quantisation levels of inverse distance (default 10000: error <= 9.04e-5 m^-1)")
       ->check(CLI::Range(2, 65535));
@@ -74,7 +76,8 @@ int run(int argc, char** argv) {
   tools::add_dds_flags(app, dds_options, "Topic prefix (several rigs on one network)");
   app.add_option("--frame-profile", frame_profile,
                  "data_writer profile of the frame topic (default omnisweep_frames)");
-  app.add_option("--frames", options.max_frames, "Stop after publishing N frames (0: run on)");
+  app.add_option("--frames", options.max_frames, "Stop after publishing N frames (0: run on)")
+      ->check(tools::not_negative());
   app.add_option("--dump", options.dump_dir,
                  "Write <seq>.jpg and <seq>_distance.f32 (float32 metres) of every frame here");
   app.add_option("--log-interval", options.log_interval_s,

@@ -6,10 +6,11 @@
 #include <string>
 #include <vector>
 
+#include "client_sdk/tools/cli_checks.h"
+#include "client_sdk/tools/tool_main.h"
 #include "omnisweep/image/image_io.h"
 #include "omnisweep/rig/basalt_calibration.h"
 #include "server/synthetic/synthetic_dataset.h"
-#include "client_sdk/tools/tool_main.h"
 
 namespace {
 
@@ -29,7 +30,8 @@ int run(int argc, char** argv) {
   app.add_option("--frames,-n", write.num_frames, "Number of frames")->check(CLI::Range(1, 100000));
   app.add_option("--first-frame", write.first_frame, "Index of the first frame on the rig's path")
       ->check(CLI::NonNegativeNumber);
-  app.add_option("--seed", rig_options.seed, "Scene seed (same seed, same scene)");
+  app.add_option("--seed", rig_options.seed, "Scene seed (same seed, same scene)")
+      ->check(omnisweep::tools::not_negative());
   app.add_option("--image-size", rig_options.image_size,
                  "Fisheye width and height of the default rig")
       ->check(CLI::Range(16, 8192));
