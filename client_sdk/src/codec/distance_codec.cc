@@ -198,7 +198,7 @@ OMNISWEEP_AVX2_CLONES void pair_contexts(const std::uint16_t* __restrict up, int
     const std::int32_t exponent = (std::bit_cast<std::int32_t>(s) >> 23) - 126;
     k[j] = std::uint8_t(std::min(std::max(exponent, 0), kContexts - 1));
   }
-  // The last pair (no d) and a lone last sample.
+  // The last pair when it has no d (even widths), or the lone last sample (odd widths).
   for (int j = std::max(1, (w - 1) / 2); j < slots; ++j) k[j] = kEdgeContext;
 }
 
