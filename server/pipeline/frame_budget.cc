@@ -13,12 +13,17 @@ FrameBudget::FrameBudget(int quality, std::size_t max_bytes, int floor_quality)
       max_bytes_(max_bytes) {
   if (quality < 1 || quality > 100 || floor_quality < 1)
     throw std::invalid_argument("JPEG quality must be 1-100, got " + std::to_string(quality));
+  codec_at(quality);  // the name comes from it
+}
+
+codec::ColorCodec& FrameBudget::codec_at(int quality) {
+  auto& codec = codecs_[quality];
+  if (!codec) codec = codec::make_color_codec("jpeg", {.quality = quality});
+  return *codec;
 }
 
 codec::Bytes FrameBudget::encode_at(const Rgb8Image& rgb, int quality) {
-  auto& codec = codecs_[quality];
-  if (!codec) codec = codec::make_color_codec("jpeg", {.quality = quality});
-  return codec->encode(rgb);
+  return codec_at(quality).encode(rgb);
 }
 
 FrameBudget::Colour FrameBudget::encode(const Rgb8Image& rgb, std::size_t distance_bytes) {

@@ -8,6 +8,7 @@
 #include <cstddef>
 #include <map>
 #include <memory>
+#include <string>
 
 #include "omnisweep/codec/codec.h"
 
@@ -29,6 +30,7 @@ class FrameBudget {
   Colour encode(const Rgb8Image& rgb, std::size_t distance_bytes);
 
   int quality() const { return quality_; }
+  std::string codec_name() const { return codecs_.at(max_quality_)->name(); }
   std::size_t max_bytes() const { return max_bytes_; }
 
   static constexpr int kFloorQuality = 50;
@@ -37,11 +39,12 @@ class FrameBudget {
   static constexpr double kRoomToRaise = 0.9;
 
  private:
+  codec::ColorCodec& codec_at(int quality);  // made on first use
   codec::Bytes encode_at(const Rgb8Image& rgb, int quality);
 
   int max_quality_, floor_quality_, quality_;
   std::size_t max_bytes_;
-  std::map<int, std::unique_ptr<codec::ColorCodec>> codecs_;  // by quality, made on first use
+  std::map<int, std::unique_ptr<codec::ColorCodec>> codecs_;  // by quality
 };
 
 }  // namespace omnisweep::pipeline

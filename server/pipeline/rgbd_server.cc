@@ -55,9 +55,8 @@ struct RgbdServer::Stages {
   std::vector<std::optional<Gray8Image>> masks;
   depth::DepthEstimator estimator;
   stitch::Stitcher stitcher;
-  std::unique_ptr<codec::ColorCodec> color_codec;  // its name goes in the description
   std::unique_ptr<codec::DistanceCodec> distance_codec;
-  FrameBudget budget;  // encodes the colour
+  FrameBudget budget;  // the colour codec, at the quality the frame budget allows
   msg::StreamDescription description;
   BoundedQueue<std::shared_ptr<Job>> to_depth{1}, to_stitch{1}, to_encode{2}, to_publish{2};
 
@@ -74,7 +73,6 @@ struct RgbdServer::Stages {
                                        .viewpoint = o.viewpoint,
                                        .min_distance = o.depth.min_distance,
                                        .max_distance = o.depth.max_distance}),
-        color_codec(codec::make_color_codec("jpeg", {.quality = o.jpeg_quality})),
         distance_codec(codec::make_distance_codec("qinv16-zstd")),
         budget(o.jpeg_quality, o.max_frame_bytes) {}
 };
@@ -98,7 +96,7 @@ RgbdServer::RgbdServer(std::unique_ptr<capture::FrameSource> source, gpu::Contex
   d.panorama_width(std::uint32_t(options_.panorama_width));
   d.panorama_height(std::uint32_t(options_.panorama_height));
   d.viewpoint(to_vector(stages_->stitcher.viewpoint()));
-  d.color_codec(stages_->color_codec->name());
+  d.color_codec(stages_->budget.codec_name());
   d.distance_codec(stages_->distance_codec->name());
   d.distance_params(wire::to_message(options_.distance));
   d.target_fps(float(options_.fps));
@@ -291,7 +289,7 @@ void RgbdServer::encode_loop() {
     m.viewpoint(stages_->description.viewpoint());
     m.width(std::uint32_t(job.panorama.rgb.width()));
     m.height(std::uint32_t(job.panorama.rgb.height()));
-    m.color(wire::make_payload(stages_->color_codec->name(), colour));
+    m.color(wire::make_payload(stages_->budget.codec_name(), colour));
     m.distance(wire::make_payload(stages_->distance_codec->name(), distance));
     m.distance_params(wire::to_message(options_.distance));
     if (!options_.dump_dir.empty()) {
