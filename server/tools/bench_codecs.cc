@@ -20,6 +20,7 @@
 #include "server/depth/depth_inputs.h"
 #include "server/stitch/stitcher.h"
 #include "server/synthetic/synthetic_rig.h"
+#include "server/tools/bench_stats.h"
 
 namespace omnisweep::tools {
 namespace {
@@ -60,16 +61,14 @@ Cost cost_of(F&& f) {
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count(),
       process_cpu_ms() - cpu};
 }
-Cost median(std::vector<Cost> costs) {
-  if (costs.empty()) return {};
-  const std::size_t mid = costs.size() / 2;
-  auto by = [&](double Cost::*field) {
-    std::nth_element(costs.begin(), costs.begin() + mid, costs.end(),
-                     [&](const Cost& a, const Cost& b) { return a.*field < b.*field; });
-    return costs[mid].*field;
-  };
-  const double wall = by(&Cost::wall_ms);
-  return {wall, by(&Cost::cpu_ms)};
+// Median wall time and median CPU time (each over all the runs).
+Cost median(const std::vector<Cost>& costs) {
+  std::vector<double> wall, cpu;
+  for (const Cost& c : costs) {
+    wall.push_back(c.wall_ms);
+    cpu.push_back(c.cpu_ms);
+  }
+  return {tools::median(wall), tools::median(cpu)};
 }
 
 // Medians of kRuns calls of each of a and b, alternated so both see the same machine load.

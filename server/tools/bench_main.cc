@@ -31,16 +31,13 @@
 #include "server/tools/bench_record.h"
 #include "server/tools/bench_reproject.h"
 #include "server/tools/bench_security.h"
+#include "server/tools/bench_stats.h"
 
 namespace {
 
 using namespace omnisweep;
 using Clock = std::chrono::steady_clock;
-
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v.empty() ? 0.0 : v[v.size() / 2];
-}
+using tools::median;
 
 struct Accuracy {
   double mae = 0, bad_0_1 = 0, bad_0_4 = 0;

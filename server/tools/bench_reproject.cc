@@ -9,16 +9,12 @@
 
 #include "omnisweep/reproject/reprojector.h"
 #include "server/synthetic/synthetic_rig.h"
+#include "server/tools/bench_stats.h"
 
 namespace omnisweep::tools {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-
-double median_of(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v.empty() ? 0.0 : v[v.size() / 2];
-}
 
 }  // namespace
 
@@ -49,7 +45,7 @@ void reproject_section(gpu::Context& context, int iterations, bool json) {
       wall.push_back(std::chrono::duration<double, std::milli>(Clock::now() - start).count());
       gpu.push_back(reprojector.last_gpu_ms());
     }
-    rows.push_back({target, offset, median_of(gpu), median_of(wall), passes});
+    rows.push_back({target, offset, median(gpu), median(wall), passes});
   };
   const PinholeCamera<double> eye = reproject::pinhole_for_fov(1024, 1024, 90);
   for (const double offset : {0.05, 0.20}) {
