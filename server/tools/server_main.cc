@@ -61,7 +61,9 @@ int run(int argc, char** argv) {
       ->check(CLI::Range(1, 100));
   app.add_option("--max-frame-bytes", options.max_frame_bytes,
                  "Colour + distance bytes per frame: larger frames get a lower JPEG quality, down "
-                 "to 50 (0: no limit; --light: 250000)")
+                 "to " +
+                     std::to_string(pipeline::FrameBudget::kFloorQuality) +
+                     " (0: no limit; --light: " + std::to_string(codec::kLightFrameBytes) + ")")
       ->check(tools::not_negative());
   app.add_option("--distance-levels", options.distance.levels,
                  "Quantisation levels of inverse distance (default 10000: error <= 9.04e-5 m^-1)")
@@ -93,7 +95,7 @@ int run(int argc, char** argv) {
     options.distance.levels = codec::kLightDistance.levels;
     options.distance.downsample = codec::kLightDistance.downsample;
     options.jpeg_quality = codec::kLightJpegQuality;
-    if (app.count("--max-frame-bytes") == 0) options.max_frame_bytes = 250000;
+    if (app.count("--max-frame-bytes") == 0) options.max_frame_bytes = codec::kLightFrameBytes;
   }
 
   // SIGINT and SIGTERM are taken by sigtimedwait below; block them before any thread starts

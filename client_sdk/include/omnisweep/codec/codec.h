@@ -9,6 +9,7 @@
 //             with a content checksum (docs/wire-format.md has the layout).
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <memory>
 #include <span>
@@ -65,12 +66,13 @@ struct ColorOptions {
   int quality = 90;
 };
 
-// The light setting, for links that cannot carry the default ~0.8-1.2 MB per 2048x1024 frame:
+// The light setting, for links that cannot carry the default's up to 1 MB per 2048x1024 frame:
 // distance at a quarter of the resolution per axis (the mean inverse distance of 4x4 blocks)
-// over 2048 levels, colour at JPEG quality 60. About 170-225 KB per frame (docs/performance.md
-// has the sizes and the error it adds).
+// over 2048 levels, colour at JPEG quality 60, and a frame budget of 250,000 bytes. About
+// 170-225 KB per frame (docs/performance.md has the sizes and the error it adds).
 inline constexpr DistanceParams kLightDistance{.levels = 2048, .downsample = 4};
 inline constexpr int kLightJpegQuality = 60;
+inline constexpr std::size_t kLightFrameBytes = 250000;
 
 // CRC-32 (zlib's) of a payload. JPEG carries no checksum of its own, so every payload travels
 // with this one and receivers call verify_checksum before decoding: a flipped bit anywhere is
