@@ -64,58 +64,85 @@ TEST_F(ReliabilityTest, SubscriberResumesAfterTheServerIsKilledAndRestarted) {
   EXPECT_EQ(subscriber.state(), client::ConnectionState::kReceiving);
 }
 
+// Frames that reach `subscriber`'s callback per second over `seconds`, counted by `frames`.
+double frame_rate(const std::atomic<int>& frames, double seconds) {
+  const int before = frames;
+  const auto start = Clock::now();
+  std::this_thread::sleep_for(std::chrono::duration<double>(seconds));
+  return (frames - before) / seconds_since(start);
+}
+
+// The server's frames out per second and its mean per-frame work (capture + depth + stitch +
+// encode, ms) and publish time (ms), means over `seconds` of its status messages.
+struct ServerLoad {
+  double fps = 0, work_ms = 0, publish_ms = 0;
+  std::size_t statuses = 0;
+};
+
+template <typename Subscriber>
+ServerLoad server_load(const Subscriber& subscriber, double seconds) {
+  std::map<std::uint64_t, ServerLoad> seen;  // by status time
+  const auto start = Clock::now();
+  while (seconds_since(start) < seconds) {
+    if (const auto s = subscriber.status()) {
+      ServerLoad load{.fps = s->fps_out()};
+      for (const auto& stage : s->stage_ms())
+        (stage.stage() == "publish" ? load.publish_ms : load.work_ms) += stage.ms();
+      seen[s->time_ns()] = load;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+  ServerLoad mean{.statuses = seen.size()};
+  for (const auto& [time, v] : seen) {
+    mean.fps += v.fps / double(seen.size());
+    mean.work_ms += v.work_ms / double(seen.size());
+    mean.publish_ms += v.publish_ms / double(seen.size());
+  }
+  return mean;
+}
+
+// Wall-clock properties are asserted against a baseline measured in the same run, so they hold on
+// a machine of any speed and under load (these tests run serially: tests/CMakeLists.txt); the
+// absolute figures are omnisweep-bench's.
 TEST_F(ReliabilityTest, BlockedSubscriberSlowsNeitherTheServerNorAnother) {
   BackgroundProcess server(server_command(), dir_.path() / "server.log");
-  std::atomic<int> slow_frames{0}, fast_frames{0};
+  std::atomic<int> fast_frames{0};
   client::SubscriberOptions options{.participant = participant_options()};
-  client::RgbdSubscriber slow(options, [&](const std::shared_ptr<const client::RgbdFrame>&) {
-    ++slow_frames;
-    std::this_thread::sleep_for(std::chrono::seconds(3));  // an app stuck in its callback
-  });
   client::RgbdSubscriber fast(
       options, [&](const std::shared_ptr<const client::RgbdFrame>&) { ++fast_frames; });
   ASSERT_TRUE(fast.wait_for_frame(std::chrono::seconds(60))) << server.log();
   std::this_thread::sleep_for(std::chrono::seconds(1));
-  const int fast_before = fast_frames;
-  const auto start = Clock::now();
-  // The server's own rate from its status messages (one a second) over the same window.
-  std::map<std::uint64_t, float> server_fps;
-  while (seconds_since(start) < 6) {
-    if (const auto status = fast.status()) server_fps[status->time_ns()] = status->fps_out();
-    std::this_thread::sleep_for(std::chrono::milliseconds(100));
-  }
-  const double fast_fps = (fast_frames - fast_before) / seconds_since(start);
-  ASSERT_GE(server_fps.size(), 4u);
-  double server_mean = 0;
-  for (const auto& [time, fps] : server_fps) server_mean += fps / double(server_fps.size());
-  std::printf(
-      "server %.2f fps out (mean of %zu statuses), other subscriber %.2f fps, blocked "
-      "subscriber %d frames in its callback\n",
-      server_mean, server_fps.size(), fast_fps, slow_frames.load());
-  // Neither the server nor the other reader falls to the blocked reader's pace (one frame per
-  // 3 s); the other reader keeps up with what the server publishes.
-  EXPECT_GT(server_mean, 2.5);
-  EXPECT_GT(fast_fps, 0.8 * server_mean);
-  EXPECT_LE(slow_frames, 4);
-}
+  // Baseline: the rate one reader gets from this server on this machine, now.
+  const double baseline_fps = frame_rate(fast_frames, 8);
+  ASSERT_GT(baseline_fps, 0.0) << server.log();
 
-// The server's frames out per second and publish time (ms), means over `seconds` of status.
-std::pair<double, double> server_load(const dds::StreamSubscriber& subscriber, double seconds) {
-  std::map<std::uint64_t, std::pair<float, float>> seen;  // status time -> fps out, publish ms
-  const auto start = Clock::now();
-  while (seconds_since(start) < seconds) {
-    if (const auto s = subscriber.status()) {
-      for (const auto& stage : s->stage_ms())
-        if (stage.stage() == "publish") seen[s->time_ns()] = {s->fps_out(), stage.ms()};
-    }
+  // An app stuck in its callback: the second reader's first frame never returns until released.
+  std::atomic<int> slow_frames{0};
+  std::atomic<bool> release{false};
+  auto slow = std::make_unique<client::RgbdSubscriber>(
+      options, [&](const std::shared_ptr<const client::RgbdFrame>&) {
+        ++slow_frames;
+        while (!release) std::this_thread::sleep_for(std::chrono::milliseconds(20));
+      });
+  for (int i = 0; i < 600 && slow_frames == 0; ++i)
     std::this_thread::sleep_for(std::chrono::milliseconds(100));
-  }
-  double fps = 0, publish = 0;
-  for (const auto& [time, v] : seen) {
-    fps += v.first / double(seen.size());
-    publish += v.second / double(seen.size());
-  }
-  return {fps, publish};
+  ASSERT_EQ(slow_frames, 1) << server.log();
+  const double blocked_fps = frame_rate(fast_frames, 8);
+  const ServerLoad server_blocked = server_load(fast, 4);
+  const int slow_seen = slow_frames;  // before its callback returns and takes the next frame
+  release = true;
+  slow.reset();
+  std::printf(
+      "other reader: %.2f fps alone, %.2f fps beside a blocked reader; server %.2f fps out (mean "
+      "of %zu statuses); blocked reader %d frame(s)\n",
+      baseline_fps, blocked_fps, server_blocked.fps, server_blocked.statuses, slow_seen);
+  // The other reader keeps its own pace and the server keeps publishing (ratios 0.87-0.96 measured
+  // with the machine slowed 3-11x by CPU hogs); the blocked reader saw only the frame it is stuck
+  // in.
+  EXPECT_GT(blocked_fps, 0.7 * baseline_fps);
+  ASSERT_GE(server_blocked.statuses, 3u);
+  EXPECT_GT(server_blocked.fps, 0.7 * baseline_fps);
+  EXPECT_EQ(slow_seen, 1);
 }
 
 TEST_F(ReliabilityTest, EightSubscribersCostTheServerLittle) {
@@ -134,18 +161,23 @@ TEST_F(ReliabilityTest, EightSubscribersCostTheServerLittle) {
       EXPECT_GT(s->frames_received(), 0u) << server.log();
     }
     std::this_thread::sleep_for(std::chrono::seconds(2));  // status windows with all of them
-    return server_load(*subscribers.front(), 6);
+    return server_load(*subscribers.front(), 8);
   };
-  const auto [fps1, publish1] = load_with(1);
-  const auto [fps8, publish8] = load_with(8);
-  std::printf("1 subscriber: %.2f fps out, publish %.3f ms; 8 subscribers: %.2f fps, %.3f ms\n",
-              fps1, publish1, fps8, publish8);
-  EXPECT_GT(fps8, 0.8 * fps1);
-  // Publishing (asynchronous: write() queues the sample) takes well under a millisecond of the
-  // 200 ms frame period, and one subscriber alone measured anywhere from 0.18 to 0.48 ms here:
-  // 20 % of that is below the jitter of this shared 2-core machine, so the bound is 20 % or
-  // 0.5 ms, whichever is larger.
-  EXPECT_LT(publish8, std::max(1.2 * publish1, publish1 + 0.5));
+  const ServerLoad one = load_with(1), eight = load_with(8);
+  std::printf(
+      "1 subscriber: %.2f fps out, work %.2f ms, publish %.3f ms; 8 subscribers: %.2f fps, work "
+      "%.2f ms, publish %.3f ms\n",
+      one.fps, one.work_ms, one.publish_ms, eight.fps, eight.work_ms, eight.publish_ms);
+  ASSERT_GE(one.statuses, 4u);
+  ASSERT_GE(eight.statuses, 4u);
+  // The rate holds (0.77-1.3 of it measured with the machine slowed 3-11x by CPU hogs, which the
+  // subscribers here share with the server).
+  EXPECT_GT(eight.fps, 0.75 * one.fps);
+  // What seven more readers add to publishing (write() queues the sample) is small beside what a
+  // frame costs the server to make, measured in the same run: under 5 % of one frame's work
+  // (measured unloaded and with the machine slowed 3-11x by CPU hogs: under 0.1 %; the publish
+  // time itself varies 0.04-0.8 ms with the scheduler, so it is not compared with itself).
+  EXPECT_LT(eight.publish_ms - one.publish_ms, 0.05 * one.work_ms);
 }
 
 // Polls the server's status through `subscriber` until its state is `state`, up to `seconds`.
