@@ -2,31 +2,14 @@
 
 #include <cstring>
 
+#include "staging.h"
+
 namespace omnisweep::gpu {
 namespace {
 
 constexpr auto kUsage = vk::BufferUsageFlagBits::eStorageBuffer |
                         vk::BufferUsageFlagBits::eTransferSrc |
                         vk::BufferUsageFlagBits::eTransferDst;
-constexpr auto kHostAccess =
-    vk::MemoryPropertyFlagBits::eHostVisible | vk::MemoryPropertyFlagBits::eHostCoherent;
-
-// A host-visible buffer for copies to and from device-only memory.
-struct Staging {
-  vk::raii::Buffer buffer{nullptr};
-  vk::raii::DeviceMemory memory{nullptr};
-  void* mapped = nullptr;
-
-  Staging(const Context& context, vk::DeviceSize bytes) {
-    buffer = vk::raii::Buffer(context.device(), vk::BufferCreateInfo({}, bytes, kUsage));
-    const auto req = buffer.getMemoryRequirements();
-    memory = vk::raii::DeviceMemory(
-        context.device(), vk::MemoryAllocateInfo(
-                              req.size, context.find_memory_type(req.memoryTypeBits, kHostAccess)));
-    buffer.bindMemory(*memory, 0);
-    mapped = memory.mapMemory(0, bytes);
-  }
-};
 
 }  // namespace
 
@@ -35,11 +18,11 @@ Buffer::Buffer(Context& context, vk::DeviceSize bytes) : context_(&context), siz
   try {
     buffer_ = vk::raii::Buffer(context.device(), vk::BufferCreateInfo({}, bytes, kUsage));
     const auto req = buffer_.getMemoryRequirements();
-    const std::uint32_t type = context.find_memory_type(
-        req.memoryTypeBits, vk::MemoryPropertyFlagBits::eDeviceLocal, kHostAccess);
-    memory_ = vk::raii::DeviceMemory(context.device(), vk::MemoryAllocateInfo(req.size, type));
-    buffer_.bindMemory(*memory_, 0);
-    if (context.memory_type_has(type, kHostAccess)) mapped_ = memory_.mapMemory(0, bytes);
+    memory_ = context.choose_memory(req.memoryTypeBits, MemoryUse::kDevice, req.size);
+    device_memory_ =
+        vk::raii::DeviceMemory(context.device(), vk::MemoryAllocateInfo(req.size, memory_.type));
+    buffer_.bindMemory(*device_memory_, 0);
+    if (memory_.mapped) mapped_ = device_memory_.mapMemory(0, VK_WHOLE_SIZE);
   } catch (const vk::SystemError& e) {
     throw GpuError("cannot allocate a GPU buffer of " + std::to_string(bytes >> 20) + " MiB on " +
                    context.info().name + ": " + e.what());
@@ -54,8 +37,9 @@ Buffer::~Buffer() {
 Buffer::Buffer(Buffer&& other) noexcept
     : context_(other.context_),
       size_(other.size_),
+      memory_(other.memory_),
       buffer_(std::move(other.buffer_)),
-      memory_(std::move(other.memory_)),
+      device_memory_(std::move(other.device_memory_)),
       mapped_(std::exchange(other.mapped_, nullptr)) {}
 
 Buffer& Buffer::operator=(Buffer&& other) noexcept {
@@ -63,8 +47,9 @@ Buffer& Buffer::operator=(Buffer&& other) noexcept {
     if (*buffer_) context_->track_allocation(-std::int64_t(size_));
     context_ = other.context_;
     size_ = other.size_;
+    memory_ = other.memory_;
     buffer_ = std::move(other.buffer_);
-    memory_ = std::move(other.memory_);
+    device_memory_ = std::move(other.device_memory_);
     mapped_ = std::exchange(other.mapped_, nullptr);
   }
   return *this;
@@ -80,29 +65,39 @@ void Buffer::check_range(std::size_t bytes, std::size_t offset) const {
 void Buffer::upload(const void* data, std::size_t bytes, std::size_t offset) {
   check_range(bytes, offset);
   if (bytes == 0) return;
-  if (mapped_) {
+  if (mapped_) {  // host writes to mapped device memory are fast, even uncached (write-combined)
     std::memcpy(static_cast<char*>(mapped_) + offset, data, bytes);
+    if (!memory_.coherent) {
+      context_->device().flushMappedMemoryRanges(
+          vk::MappedMemoryRange(*device_memory_, 0, VK_WHOLE_SIZE));
+    }
     return;
   }
-  Staging staging(*context_, bytes);
-  std::memcpy(staging.mapped, data, bytes);
+  const auto staging = context_->staging().upload(bytes);
+  std::memcpy(staging.data(), data, bytes);
+  staging.flush();
   context_->run_commands([&](const vk::raii::CommandBuffer& cmd) {
-    cmd.copyBuffer(*staging.buffer, *buffer_, vk::BufferCopy(0, offset, bytes));
+    cmd.copyBuffer(staging.buffer(), *buffer_, vk::BufferCopy(0, offset, bytes));
   });
 }
 
 void Buffer::download(void* data, std::size_t bytes, std::size_t offset) const {
   check_range(bytes, offset);
   if (bytes == 0) return;
-  if (mapped_) {
+  if (mapped_ && memory_.cached) {  // reads of uncached device memory go through staging instead
+    if (!memory_.coherent) {
+      context_->device().invalidateMappedMemoryRanges(
+          vk::MappedMemoryRange(*device_memory_, 0, VK_WHOLE_SIZE));
+    }
     std::memcpy(data, static_cast<const char*>(mapped_) + offset, bytes);
     return;
   }
-  Staging staging(*context_, bytes);
+  const auto staging = context_->staging().readback(bytes);
   context_->run_commands([&](const vk::raii::CommandBuffer& cmd) {
-    cmd.copyBuffer(*buffer_, *staging.buffer, vk::BufferCopy(offset, 0, bytes));
+    cmd.copyBuffer(*buffer_, staging.buffer(), vk::BufferCopy(offset, 0, bytes));
   });
-  std::memcpy(data, staging.mapped, bytes);
+  staging.invalidate();
+  std::memcpy(data, staging.data(), bytes);
 }
 
 }  // namespace omnisweep::gpu

@@ -4,6 +4,9 @@
 #include <cctype>
 #include <cstdio>
 #include <cstdlib>
+#include <sstream>
+
+#include "staging.h"
 
 namespace omnisweep::gpu {
 namespace {
@@ -111,9 +114,47 @@ vk::raii::Instance create_instance(const vk::raii::Context& context, bool valida
 
 }  // namespace
 
+HiddenMemory HiddenMemory::parse(const std::string& list) {
+  HiddenMemory hidden;
+  std::stringstream items(list);
+  std::string item;
+  while (std::getline(items, item, ',')) {
+    item.erase(0, item.find_first_not_of(' '));
+    item.erase(item.find_last_not_of(' ') + 1);
+    if (item == "device-host") {
+      hidden.device_host = true;
+    } else if (item == "cached") {
+      hidden.host_cached = true;
+    } else if (item == "coherent") {
+      hidden.host_coherent = true;
+    } else if (item == "all") {
+      hidden = {.device_host = true, .host_cached = true, .host_coherent = true};
+    } else if (!item.empty() && item != "none") {
+      throw GpuError("hidden memory '" + item + "' in '" + list +
+                     "' is not one of device-host, cached, coherent, all, none");
+    }
+  }
+  return hidden;
+}
+
+std::string HiddenMemory::describe() const {
+  std::string out;
+  if (device_host) out += "device-host";
+  if (host_cached) out += std::string(out.empty() ? "" : ",") + "cached";
+  if (host_coherent) out += std::string(out.empty() ? "" : ",") + "coherent";
+  return out.empty() ? "none" : out;
+}
+
 ContextOptions ContextOptions::from_environment() {
   ContextOptions options;
   if (const char* device = std::getenv("OMNISWEEP_VK_DEVICE")) options.device = device;
+  if (const char* hidden = std::getenv("OMNISWEEP_VK_HIDE_MEMORY")) {
+    try {
+      options.hidden_memory = HiddenMemory::parse(hidden);
+    } catch (const GpuError& e) {
+      throw GpuError(std::string("OMNISWEEP_VK_HIDE_MEMORY: ") + e.what());
+    }
+  }
   if (const char* validation = std::getenv("OMNISWEEP_VK_VALIDATION")) {
     options.validation = std::string(validation) == "1";
   }
@@ -131,7 +172,9 @@ std::vector<DeviceInfo> list_devices() {
 }
 
 Context::Context(const ContextOptions& options)
-    : validation_(options.validation), messages_(std::make_unique<Messages>()) {
+    : validation_(options.validation),
+      messages_(std::make_unique<Messages>()),
+      hidden_memory_(options.hidden_memory) {
   instance_ = create_instance(context_, validation_);
   if (validation_) {
     using Severity = vk::DebugUtilsMessageSeverityFlagBitsEXT;
@@ -206,6 +249,7 @@ Context::Context(const ContextOptions& options)
   command_pool_ = vk::raii::CommandPool(
       device_,
       vk::CommandPoolCreateInfo(vk::CommandPoolCreateFlagBits::eResetCommandBuffer, queue_family_));
+  staging_ = std::make_unique<StagingPool>(*this);
 }
 
 Context::~Context() {
@@ -217,28 +261,77 @@ std::vector<std::string> Context::take_validation_messages() {
   return std::exchange(messages_->list, {});
 }
 
-std::uint32_t Context::find_memory_type(std::uint32_t type_bits, vk::MemoryPropertyFlags required,
-                                        vk::MemoryPropertyFlags preferred) const {
-  std::int64_t fallback = -1;
+MemoryChoice Context::choose_memory(std::uint32_t type_bits, MemoryUse use,
+                                   vk::DeviceSize bytes) const {
+  using Flag = vk::MemoryPropertyFlagBits;
+  const auto& types = memory_properties_.memoryTypes;
+  const auto& heaps = memory_properties_.memoryHeaps;
+  // A type's properties as this use sees them, less what is hidden. With device_host hidden a
+  // type that is both is seen as device-only by compute memory and as host-only by staging.
+  const auto seen = [&](std::uint32_t i) {
+    vk::MemoryPropertyFlags flags = types[i].propertyFlags;
+    if (hidden_memory_.host_cached) flags &= ~vk::MemoryPropertyFlags(Flag::eHostCached);
+    if (hidden_memory_.host_coherent) flags &= ~vk::MemoryPropertyFlags(Flag::eHostCoherent);
+    if (hidden_memory_.device_host && (flags & Flag::eDeviceLocal) && (flags & Flag::eHostVisible))
+      flags = use == MemoryUse::kDevice ? vk::MemoryPropertyFlags(Flag::eDeviceLocal)
+                                        : flags & ~vk::MemoryPropertyFlags(Flag::eDeviceLocal);
+    return flags;
+  };
+  vk::DeviceSize largest_device_heap = 0;
+  for (std::uint32_t h = 0; h < memory_properties_.memoryHeapCount; ++h)
+    if (heaps[h].flags & vk::MemoryHeapFlagBits::eDeviceLocal)
+      largest_device_heap = std::max(largest_device_heap, heaps[h].size);
+  // Rank of type i for this use, lower is better; -1 where it does not qualify.
+  const auto rank = [&](std::uint32_t i) -> int {
+    const auto flags = seen(i);
+    const bool device = bool(flags & Flag::eDeviceLocal), host = bool(flags & Flag::eHostVisible);
+    const bool cached = bool(flags & Flag::eHostCached);
+    const bool coherent = bool(flags & Flag::eHostCoherent);
+    switch (use) {
+      case MemoryUse::kDevice: {
+        if (!device) return -1;
+        // Mappable device memory saves a copy only where its heap is the device's memory (unified
+        // memory, resizable BAR); a 256 MiB BAR window is left to what must live there.
+        const vk::DeviceSize heap = heaps[types[i].heapIndex].size;
+        const bool large = heap >= largest_device_heap / 2 && heap >= bytes;
+        return host ? (large ? 0 : 2) : 1;
+      }
+      case MemoryUse::kUpload:
+        if (!host) return -1;
+        return coherent ? 0 : 1;
+      case MemoryUse::kReadback:
+        if (!host) return -1;
+        return cached ? (coherent ? 0 : 1) : (coherent ? 2 : 3);
+    }
+    return -1;
+  };
+  std::int64_t best = -1;
+  int best_rank = 0;
   for (std::uint32_t i = 0; i < memory_properties_.memoryTypeCount; ++i) {
     if (!(type_bits & (1u << i))) continue;
-    const auto flags = memory_properties_.memoryTypes[i].propertyFlags;
-    if ((flags & required) != required) continue;
-    if ((flags & preferred) == preferred) return i;
-    if (fallback < 0) fallback = i;
+    const int r = rank(i);
+    if (r >= 0 && (best < 0 || r < best_rank)) {
+      best = i;
+      best_rank = r;
+    }
   }
-  if (fallback < 0)
-    throw GpuError("no Vulkan memory type with the required properties on " + info_.name);
-  return std::uint32_t(fallback);
-}
-
-bool Context::memory_type_has(std::uint32_t type, vk::MemoryPropertyFlags flags) const {
-  return (memory_properties_.memoryTypes[type].propertyFlags & flags) == flags;
+  static const char* const kUseNames[] = {"compute", "upload staging", "readback staging"};
+  if (best < 0) {
+    throw GpuError(std::string("no Vulkan memory type on ") + info_.name + " serves " +
+                   kUseNames[int(use)] + " memory (hidden: " + hidden_memory_.describe() + ")");
+  }
+  const auto flags = seen(std::uint32_t(best));
+  return {.type = std::uint32_t(best),
+          .mapped = bool(flags & Flag::eHostVisible),
+          .coherent = bool(flags & Flag::eHostCoherent),
+          .cached = bool(flags & Flag::eHostCached)};
 }
 
 void Context::track_allocation(std::int64_t bytes) {
-  allocated_ = std::uint64_t(std::int64_t(allocated_) + bytes);
-  peak_allocated_ = std::max(peak_allocated_, allocated_);
+  const std::uint64_t now = allocated_.fetch_add(std::uint64_t(bytes)) + std::uint64_t(bytes);
+  std::uint64_t peak = peak_allocated_.load();
+  while (now > peak && !peak_allocated_.compare_exchange_weak(peak, now)) {
+  }
 }
 
 void Context::run_commands(

@@ -9,6 +9,7 @@
 #include "omnisweep/gpu/image.h"
 #include "omnisweep/gpu/kernel.h"
 #include "omnisweep/gpu/sequence.h"
+#include "staging.h"
 #include "tests/support/gpu_test_support.h"
 
 namespace omnisweep::gpu {
@@ -32,13 +33,13 @@ TEST(GpuDevices, ListsDevicesAndSelectsByIndexOrName) {
   const auto devices = list_devices();
   ASSERT_FALSE(devices.empty());
   for (const auto& d : devices) std::cout << d.index << ": " << d.name << " (" << d.type << ")\n";
-  const Context by_index(ContextOptions{.device = "0"});
+  const Context by_index(ContextOptions{.device = "0", .validation = false, .hidden_memory = {}});
   EXPECT_EQ(by_index.info().name, devices[0].name);
   const std::string fragment = devices[0].name.substr(0, 4);
-  const Context by_name(ContextOptions{.device = fragment});
+  const Context by_name(ContextOptions{.device = fragment, .validation = false, .hidden_memory = {}});
   EXPECT_NE(by_name.info().name.find(fragment), std::string::npos);
   try {
-    Context none(ContextOptions{.device = "no-such-gpu"});
+    Context none(ContextOptions{.device = "no-such-gpu", .validation = false, .hidden_memory = {}});
     FAIL();
   } catch (const GpuError& e) {
     EXPECT_NE(std::string(e.what()).find("no Vulkan device matches 'no-such-gpu'"),
@@ -95,6 +96,78 @@ TEST_F(ValidatedGpuTest, BufferRoundTripAndBounds) {
   Buffer moved = std::move(buffer);
   EXPECT_EQ(moved.download<float>()[999], 499.5f);
 }
+
+TEST(GpuMemory, HiddenMemoryListsParseAndBadItemsAreNamed) {
+  EXPECT_EQ(HiddenMemory::parse("").describe(), "none");
+  EXPECT_EQ(HiddenMemory::parse("none").describe(), "none");
+  EXPECT_EQ(HiddenMemory::parse("cached, device-host").describe(), "device-host,cached");
+  EXPECT_EQ(HiddenMemory::parse("all").describe(), "device-host,cached,coherent");
+  try {
+    HiddenMemory::parse("cached,uncached");
+    FAIL();
+  } catch (const GpuError& e) {
+    EXPECT_NE(std::string(e.what()).find("'uncached'"), std::string::npos) << e.what();
+  }
+}
+
+// Every memory path a real GPU may take, on whatever device this is: with each property hidden
+// (a discrete GPU without resizable BAR, no cached or no coherent host memory), buffers and
+// images still round-trip through a kernel, staging is reused, and the layer stays silent.
+class GpuMemoryPaths : public ::testing::TestWithParam<const char*> {};
+
+TEST_P(GpuMemoryPaths, TransfersAndKernelsWorkOnEveryFallback) {
+  const HiddenMemory hidden = HiddenMemory::parse(GetParam());
+  Context context(ContextOptions{.device = ContextOptions::from_environment().device,
+                                 .validation = true,
+                                 .hidden_memory = hidden});
+  Buffer buffer(context, 4096 * sizeof(float));
+  EXPECT_TRUE(!hidden.device_host || !buffer.memory().mapped);
+  EXPECT_TRUE(!hidden.host_cached || !buffer.memory().cached);
+  EXPECT_TRUE(!hidden.host_coherent || !buffer.memory().coherent);
+  std::vector<float> values(4096);
+  for (int i = 0; i < 4096; ++i) values[i] = 0.25f * float(i);
+  buffer.upload(std::span<const float>(values));
+  EXPECT_EQ(buffer.download<float>(), values);
+  std::vector<float> part(16);
+  buffer.download(part.data(), 64, 400);
+  EXPECT_EQ(part[0], 25.0f);
+
+  // A kernel overwrites part of it; the download sees the device's writes.
+  const Kernel fill(context, "fill", fill_layout(1, 64));
+  Sequence seq(context);
+  seq.begin();
+  seq.dispatch(fill, {buffer}, FillPush{100, 3.0f}, fill.groups_for(100, 1));
+  seq.submit_and_wait();
+  const auto out = buffer.download<float>();
+  EXPECT_EQ(out[99], 3.0f);
+  EXPECT_EQ(out[100], 25.0f);
+
+  std::vector<std::uint32_t> texels(37 * 11), back(texels.size());
+  for (std::size_t i = 0; i < texels.size(); ++i) texels[i] = std::uint32_t(i * 2654435761u);
+  Image image(context, 37, 11, ImageFormat::kRgba8);
+  image.upload(texels.data(), texels.size() * 4);
+  image.download(back.data(), back.size() * 4);
+  EXPECT_EQ(back, texels);
+
+  // Staging grew once to fit and is reused: the same transfers again allocate nothing more.
+  const std::size_t staging = context.staging().bytes();
+  for (int i = 0; i < 3; ++i) {
+    buffer.upload(std::span<const float>(values));
+    image.download(back.data(), back.size() * 4);
+  }
+  EXPECT_EQ(context.staging().bytes(), staging);
+  EXPECT_EQ(context.take_validation_messages(), std::vector<std::string>{});
+}
+
+INSTANTIATE_TEST_SUITE_P(Hidden, GpuMemoryPaths,
+                         ::testing::Values("none", "device-host", "cached", "coherent",
+                                           "device-host,cached", "all"),
+                         [](const auto& info) {
+                           std::string name = info.param;
+                           for (char& c : name)
+                             if (c == '-' || c == ',') c = '_';
+                           return name;
+                         });
 
 TEST_F(ValidatedGpuTest, KernelWithPushAndSpecializationConstants) {
   Buffer buffer(context(), 100 * sizeof(float));

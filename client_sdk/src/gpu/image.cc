@@ -2,7 +2,7 @@
 
 #include <cstring>
 
-#include "omnisweep/gpu/buffer.h"
+#include "staging.h"
 
 namespace omnisweep::gpu {
 namespace {
@@ -45,9 +45,8 @@ Image::Image(Context& context, int width, int height, ImageFormat format)
     const auto req = image_.getMemoryRequirements();
     memory_ = vk::raii::DeviceMemory(
         context.device(),
-        vk::MemoryAllocateInfo(req.size,
-                               context.find_memory_type(req.memoryTypeBits,
-                                                        vk::MemoryPropertyFlagBits::eDeviceLocal)));
+        vk::MemoryAllocateInfo(
+            req.size, context.choose_memory(req.memoryTypeBits, MemoryUse::kDevice, req.size).type));
     image_.bindMemory(*memory_, 0);
     view_ = vk::raii::ImageView(context.device(),
                                 vk::ImageViewCreateInfo({}, *image_, vk::ImageViewType::e2D,
@@ -100,11 +99,12 @@ void Image::upload(const void* data, std::size_t size) {
     throw GpuError("GPU image upload of " + std::to_string(size) + " bytes, the image holds " +
                    std::to_string(bytes()));
   }
-  Buffer staging(*context_, size);
-  staging.upload(data, size);
+  const auto staging = context_->staging().upload(size);
+  std::memcpy(staging.data(), data, size);
+  staging.flush();
   context_->run_commands([&](const vk::raii::CommandBuffer& cmd) {
     transition(cmd, *image_, vk::ImageLayout::eGeneral, vk::ImageLayout::eTransferDstOptimal);
-    cmd.copyBufferToImage(staging.handle(), *image_, vk::ImageLayout::eTransferDstOptimal,
+    cmd.copyBufferToImage(staging.buffer(), *image_, vk::ImageLayout::eTransferDstOptimal,
                           vk::BufferImageCopy(0, 0, 0, {vk::ImageAspectFlagBits::eColor, 0, 0, 1},
                                               {0, 0, 0}, vk::Extent3D(width_, height_, 1)));
     transition(cmd, *image_, vk::ImageLayout::eTransferDstOptimal, vk::ImageLayout::eGeneral);
@@ -116,15 +116,16 @@ void Image::download(void* data, std::size_t size) const {
     throw GpuError("GPU image download of " + std::to_string(size) + " bytes, the image holds " +
                    std::to_string(bytes()));
   }
-  Buffer staging(*context_, size);
+  const auto staging = context_->staging().readback(size);
   context_->run_commands([&](const vk::raii::CommandBuffer& cmd) {
     transition(cmd, *image_, vk::ImageLayout::eGeneral, vk::ImageLayout::eTransferSrcOptimal);
-    cmd.copyImageToBuffer(*image_, vk::ImageLayout::eTransferSrcOptimal, staging.handle(),
+    cmd.copyImageToBuffer(*image_, vk::ImageLayout::eTransferSrcOptimal, staging.buffer(),
                           vk::BufferImageCopy(0, 0, 0, {vk::ImageAspectFlagBits::eColor, 0, 0, 1},
                                               {0, 0, 0}, vk::Extent3D(width_, height_, 1)));
     transition(cmd, *image_, vk::ImageLayout::eTransferSrcOptimal, vk::ImageLayout::eGeneral);
   });
-  staging.download(data, size);
+  staging.invalidate();
+  std::memcpy(data, staging.data(), size);
 }
 
 }  // namespace omnisweep::gpu

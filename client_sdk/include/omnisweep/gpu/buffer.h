@@ -1,6 +1,8 @@
-// A Vulkan storage buffer with its memory, owned (move-only). Device buffers live in device-local
-// memory; where that memory is also host-visible (CPU devices, unified-memory boards such as
-// Jetson) they are mapped and copied directly, elsewhere through a staging buffer.
+// A Vulkan storage buffer with its memory, owned (move-only). Buffers live in device-local memory
+// (Context::choose_memory); where that memory is also host-visible on a large heap (CPU devices,
+// unified-memory boards such as Jetson, resizable BAR) uploads write it through a mapping, and
+// where it is also host-cached downloads read it so; every other transfer goes through the
+// context's reused staging buffers.
 #pragma once
 
 #include <cstddef>
@@ -23,6 +25,8 @@ class Buffer {
 
   vk::DeviceSize size() const { return size_; }
   vk::Buffer handle() const { return *buffer_; }
+  // The memory it lives in and how it is reached (mapped or through staging).
+  const MemoryChoice& memory() const { return memory_; }
 
   void upload(const void* data, std::size_t bytes, std::size_t offset = 0);
   void download(void* data, std::size_t bytes, std::size_t offset = 0) const;
@@ -43,8 +47,9 @@ class Buffer {
 
   Context* context_;
   vk::DeviceSize size_;
+  MemoryChoice memory_;
   vk::raii::Buffer buffer_{nullptr};
-  vk::raii::DeviceMemory memory_{nullptr};
+  vk::raii::DeviceMemory device_memory_{nullptr};
   void* mapped_ = nullptr;
 };
 

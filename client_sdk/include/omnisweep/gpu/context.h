@@ -4,6 +4,7 @@
 // one owner: the vk::raii objects here and in Buffer, Kernel and Sequence.
 #pragma once
 
+#include <atomic>
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -22,14 +23,43 @@ class GpuError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// Memory properties a context pretends its device lacks, so that a device with one kind of
+// memory for everything (lavapipe, Jetson) runs the paths a discrete GPU takes.
+struct HiddenMemory {
+  // No memory type is both device-local and host-visible (a discrete GPU without resizable BAR):
+  // compute buffers are never mapped, every transfer goes through a staging buffer.
+  bool device_host = false;
+  bool host_cached = false;    // readback falls back to uncached host memory
+  bool host_coherent = false;  // mapped memory is flushed and invalidated explicitly
+  // Parses a comma-separated list of "device-host", "cached", "coherent" (or "all"; empty: none);
+  // throws GpuError naming the bad item.
+  static HiddenMemory parse(const std::string& list);
+  std::string describe() const;  // the same list back ("none" when nothing is hidden)
+};
+
 struct ContextOptions {
   // Index ("1") or case-insensitive name substring ("llvmpipe", "nvidia"); empty: best device.
   std::string device;
   // Enable the Khronos validation layer and collect its messages (take_validation_messages).
   bool validation = false;
-  // device from OMNISWEEP_VK_DEVICE, validation from OMNISWEEP_VK_VALIDATION=1.
+  HiddenMemory hidden_memory;
+  // device from OMNISWEEP_VK_DEVICE, validation from OMNISWEEP_VK_VALIDATION=1, hidden memory
+  // from OMNISWEEP_VK_HIDE_MEMORY (HiddenMemory::parse).
   static ContextOptions from_environment();
 };
+
+// What memory serves: compute buffers and images, staging for uploads, staging for readback.
+enum class MemoryUse { kDevice, kUpload, kReadback };
+
+// A memory type chosen for a use, with what the code that maps it must do.
+struct MemoryChoice {
+  std::uint32_t type = 0;
+  bool mapped = false;    // host-visible (and not hidden): map it and copy directly
+  bool coherent = false;  // no flush / invalidate needed
+  bool cached = false;    // host reads are fast (reading uncached device memory is not)
+};
+
+class StagingPool;
 
 struct DeviceInfo {
   int index = 0;
@@ -68,15 +98,21 @@ class Context {
   // Validation messages collected since the last call (empty without validation).
   std::vector<std::string> take_validation_messages();
 
-  // A memory type with all `required` properties, preferring one that also has `preferred`.
-  std::uint32_t find_memory_type(std::uint32_t type_bits, vk::MemoryPropertyFlags required,
-                                 vk::MemoryPropertyFlags preferred = {}) const;
-  bool memory_type_has(std::uint32_t type, vk::MemoryPropertyFlags flags) const;
+  // The memory type for `use` among `type_bits`, by a fallback chain (context.cc): compute
+  // memory is device-local, and also host-visible only where that heap is large enough for
+  // compute buffers (not a 256 MiB BAR); readback prefers cached host memory, upload coherent.
+  // Throws GpuError when no type qualifies.
+  MemoryChoice choose_memory(std::uint32_t type_bits, MemoryUse use, vk::DeviceSize bytes) const;
+  const HiddenMemory& hidden_memory() const { return hidden_memory_; }
 
-  // Bytes of device memory held by live Buffers (and its peak), for memory reports.
+  // Bytes of device memory held by live Buffers and Images (and its peak), for memory reports.
+  // Thread-safe: the server's stages allocate from their own threads.
   std::uint64_t allocated_bytes() const { return allocated_; }
   std::uint64_t peak_allocated_bytes() const { return peak_allocated_; }
   void track_allocation(std::int64_t bytes);
+
+  // The staging buffers every transfer reuses (staging.h), one for uploads, one for readback.
+  StagingPool& staging() const { return *staging_; }
 
   // Records commands into a one-shot command buffer, submits and waits. Thread-safe.
   void run_commands(const std::function<void(const vk::raii::CommandBuffer&)>& record) const;
@@ -107,8 +143,10 @@ class Context {
   std::uint32_t queue_family_ = 0;
   DeviceInfo info_;
   vk::PhysicalDeviceMemoryProperties memory_properties_;
-  std::uint64_t allocated_ = 0;
-  std::uint64_t peak_allocated_ = 0;
+  HiddenMemory hidden_memory_;
+  std::atomic<std::uint64_t> allocated_{0};
+  std::atomic<std::uint64_t> peak_allocated_{0};
+  std::unique_ptr<StagingPool> staging_;
 };
 
 }  // namespace omnisweep::gpu
