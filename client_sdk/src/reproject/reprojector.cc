@@ -6,8 +6,6 @@
 #include <stdexcept>
 #include <string>
 
-#include "omnisweep/gpu/sequence.h"
-
 namespace omnisweep::reproject {
 
 void ReprojectorOptions::check() const {
@@ -122,7 +120,8 @@ View Reprojector::render(const GpuCamera& target, int slot, double pixels_per_ra
   ForwardWarper& warper = it->second;
   // Passes in batches until one fills nothing: holes are usually far narrower than the bound.
   constexpr int kBatch = 8;
-  gpu::Sequence seq(*context_, kBatch + 8, 2);
+  if (!sequence_) sequence_.emplace(*context_, kBatch + 8, 2);
+  gpu::Sequence& seq = *sequence_;
   double gpu_ms = 0;
   seq.begin();
   seq.begin_stage("warp");

@@ -23,6 +23,7 @@
 #include "omnisweep/camera/pinhole_camera.h"
 #include "omnisweep/geometry/rigid3.h"
 #include "omnisweep/gpu/buffer.h"
+#include "omnisweep/gpu/sequence.h"
 #include "omnisweep/image/image.h"
 #include "omnisweep/reproject/forward_warp.h"
 
@@ -86,6 +87,9 @@ class Reprojector {
   double nearest_ = 0;  // the panorama's nearest distance, at least min_distance
   // One warper per target model, size and slot (cube faces), reused as the pose changes.
   std::map<std::array<std::uint32_t, 4>, ForwardWarper> warpers_;
+  // One command buffer with its descriptor, command and query pools and fence, created with the
+  // first render and re-recorded for every later one (nothing is allocated per render).
+  std::optional<gpu::Sequence> sequence_;
   double last_gpu_ms_ = 0;
 };
 
