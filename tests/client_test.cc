@@ -8,6 +8,7 @@
 #include <thread>
 
 #include "omnisweep/client/rgbd_subscriber.h"
+#include "omnisweep/dds/stream_publisher.h"
 #include "omnisweep/image/image_io.h"
 #include "tests/support/stream_fixture.h"
 
@@ -63,6 +64,49 @@ TEST_F(ClientTest, SubscriberReportsReceivingStalledAndNoServer) {
   EXPECT_EQ(server.stop(SIGTERM, 5, &seconds), 0);
   EXPECT_TRUE(reaches(subscriber, ConnectionState::kNoServer, 5));
   EXPECT_EQ(subscriber.stats().decode_errors, 0u);
+}
+
+// A server still computing its first frame (slow on a CPU device): matched, publishing status,
+// no frame yet. The SDK says "waiting", not "stalled"; the viewer and the subscriber say so and
+// show what the server's status says it is doing.
+TEST_F(ClientTest, WaitingForTheFirstFrameIsNotStalled) {
+  dds::StreamPublisher server(participant_options());
+  client::SubscriberOptions options{.participant = participant_options(), .stall_after_s = 0.5};
+  client::RgbdSubscriber subscriber(options);
+  msg::ServerStatus status;
+  status.state("starting");
+  msg::StageTime capture, depth;
+  capture.stage("capture");
+  capture.ms(1234.0f);
+  depth.stage("depth");
+  depth.ms(0.0f);
+  status.stage_ms({capture, depth});
+  std::atomic<bool> done{false};
+  std::thread statuses([&] {  // once every 200 ms, as a server does once a second
+    while (!done) {
+      status.time_ns(std::uint64_t(std::chrono::system_clock::now().time_since_epoch().count()));
+      server.publish(status);
+      std::this_thread::sleep_for(std::chrono::milliseconds(200));
+    }
+  });
+  EXPECT_TRUE(reaches(subscriber, ConnectionState::kWaiting, 10));
+  std::this_thread::sleep_for(std::chrono::seconds(1));  // past stall_after_s: still waiting
+  EXPECT_EQ(subscriber.state(), ConnectionState::kWaiting);
+  EXPECT_STREQ(client::to_string(ConnectionState::kWaiting), "waiting for the first frame");
+  const std::string expected =
+      "waiting for the first frame (server starting; per frame: capture 1234 ms)";
+  std::string log;
+  EXPECT_EQ(run_command(tool_command("view", " --frames 1 --timeout 6 --output " +
+                                                 (dir_.path() / "view").string()),
+                        &log),
+            1);
+  EXPECT_NE(log.find(expected), std::string::npos) << log;
+  EXPECT_EQ(log.find("stalled"), std::string::npos) << log;
+  EXPECT_NE(log.find("with 0 of 1 frames (waiting for the first frame)"), std::string::npos) << log;
+  EXPECT_EQ(run_command(tool_command("subscribe", " --frames 1 --timeout 6"), &log), 1);
+  EXPECT_NE(log.find(expected), std::string::npos) << log;
+  done = true;
+  statuses.join();
 }
 
 TEST_F(ClientTest, ViewWritesThePanoramaItsDistanceAndANovelView) {

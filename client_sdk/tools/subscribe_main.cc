@@ -17,6 +17,7 @@
 
 #include "client_sdk/tools/cli_checks.h"
 #include "client_sdk/tools/dds_flags.h"
+#include "client_sdk/tools/status_line.h"
 #include "client_sdk/tools/tool_main.h"
 #include "omnisweep/dds/stream_subscriber.h"
 #include "omnisweep/time/clock.h"
@@ -160,7 +161,10 @@ int run(int argc, char** argv) {
     const std::lock_guard lock(window.mutex);
     std::vector<double> l = window.latency_ms;
     std::sort(l.begin(), l.end());
-    if (!quiet) {
+    if (!quiet && decoded == 0 && subscriber.matched_servers() > 0 && !status_only) {
+      std::printf("%s\n", tools::waiting_line(subscriber.status()).c_str());
+      std::fflush(stdout);
+    } else if (!quiet) {
       std::printf(
           "%llu fps, latency median %.1f ms (max %.1f), %.2f Mbit/s, %llu lost, %d server(s)\n",
           static_cast<unsigned long long>(window.frames), l.empty() ? 0.0 : l[l.size() / 2],

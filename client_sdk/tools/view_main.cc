@@ -17,6 +17,7 @@
 
 #include "client_sdk/tools/cli_checks.h"
 #include "client_sdk/tools/dds_flags.h"
+#include "client_sdk/tools/status_line.h"
 #include "client_sdk/tools/tool_main.h"
 #include "omnisweep/client/rgbd_subscriber.h"
 #include "omnisweep/gpu/context.h"
@@ -194,6 +195,11 @@ int run(int argc, char** argv) {
     if (now < next_report) continue;
     next_report += std::chrono::seconds(1);
     const client::SubscriberStats stats = subscriber.stats();
+    if (subscriber.state() == client::ConnectionState::kWaiting) {
+      std::printf("%s\n", tools::waiting_line(subscriber.status()).c_str());
+      std::fflush(stdout);
+      continue;
+    }
     const std::lock_guard lock(window.mutex);
     double mean = 0, worst = 0;
     for (double l : window.latency_ms)

@@ -48,6 +48,10 @@ class FrameSource {
   // Throws SourceError when no camera delivers at all.
   virtual std::optional<CapturedFrame> next() = 0;
   virtual std::vector<CameraStatus> camera_status() const = 0;
+  // Live cameras (v4l2, gst) keep capturing whether or not anyone reads them: the server drains
+  // them and keeps the latest frame. Other sources (synthetic, dataset, video files) wait, so the
+  // server reads them only when the depth stage has room for a frame.
+  virtual bool live() const { return false; }
 };
 
 struct SourceOptions {

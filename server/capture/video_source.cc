@@ -50,6 +50,7 @@ class VideoSource final : public FrameSource {
   std::string description() const override {
     return kind_ + " source with " + std::to_string(entries_.size()) + " cameras";
   }
+  bool live() const override { return kind_ != "video"; }
 
   std::optional<CapturedFrame> next() override {
     // Grab every camera first, then decode, so the images are as close in time as possible.

@@ -32,6 +32,14 @@ class BoundedQueue {
     return dropped;
   }
 
+  // Blocks until the queue has room for an item without dropping one; false once it is closed.
+  // A producer whose source can wait calls it first, so it makes no item only to see it dropped.
+  bool wait_for_room() {
+    std::unique_lock lock(mutex_);
+    room_.wait(lock, [&] { return closed_ || items_.size() < capacity_; });
+    return !closed_;
+  }
+
   // The oldest item; nullopt once the queue is closed.
   std::optional<T> pop() {
     std::unique_lock lock(mutex_);
@@ -39,6 +47,8 @@ class BoundedQueue {
     if (closed_) return std::nullopt;
     T item = std::move(items_.front());
     items_.pop_front();
+    lock.unlock();
+    room_.notify_all();
     return item;
   }
 
@@ -49,12 +59,13 @@ class BoundedQueue {
       items_.clear();
     }
     ready_.notify_all();
+    room_.notify_all();
   }
 
  private:
   std::size_t capacity_;
   std::mutex mutex_;
-  std::condition_variable ready_;
+  std::condition_variable ready_, room_;
   std::deque<T> items_;
   bool closed_ = false;
 };

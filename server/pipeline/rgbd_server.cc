@@ -111,10 +111,6 @@ RgbdServer::~RgbdServer() {
 
 void RgbdServer::start() {
   publisher_->publish(stages_->description);
-  {
-    const std::lock_guard lock(stats_mutex_);
-    state_ = "running";
-  }
   auto spawn = [&](void (RgbdServer::*loop)(), const char* stage,
                    std::atomic<bool>* ended = nullptr) {
     ++running_threads_;
@@ -187,8 +183,12 @@ void RgbdServer::capture_loop() {
       std::chrono::duration<double>(1.0 / options_.fps));
   auto next_tick = Clock::now();
   std::uint64_t sequence = 0;
+  const bool live = source_->live();
   while (!stop_) {
     std::this_thread::sleep_until(next_tick);
+    // A source that can wait is read once depth has room for its frame (none is made only to be
+    // dropped, and its reads leave the CPU to depth); live cameras are drained at --fps.
+    if (!live && !stages_->to_depth.wait_for_room()) break;
     next_tick = std::max(next_tick + period, Clock::now());
     const auto start = Clock::now();
     std::optional<capture::CapturedFrame> frame;
@@ -225,7 +225,7 @@ void RgbdServer::capture_loop() {
       const std::lock_guard lock(stats_mutex_);
       cameras_ = source_->camera_status();
       ++captured_window_;
-      if (state_ == "source stalled") state_ = "running";
+      if (state_ == "source stalled") state_ = published_ > 0 ? "running" : "starting";
     }
     auto job = std::make_shared<Job>();
     job->sequence = sequence++;
@@ -243,6 +243,9 @@ void RgbdServer::depth_loop() {
     depth::DepthResult result = stages_->estimator.estimate(depth::pointers(images));
     (*job)->distance = std::move(result.distance);
     add_stage_time("depth", ms_since(start));
+    // Behind a source that waits, a stage waits for the next one too: no frame is computed only
+    // to be dropped. Behind live cameras the newest frame replaces a waiting one.
+    if (!source_->live() && !stages_->to_stitch.wait_for_room()) break;
     if (stages_->to_stitch.push(std::move(*job))) count_drop("stitch busy");
   }
 }
@@ -257,6 +260,7 @@ void RgbdServer::stitch_loop() {
     job.images.clear();
     job.distance.clear();
     add_stage_time("stitch", ms_since(start));
+    if (!source_->live() && !stages_->to_encode.wait_for_room()) break;
     if (stages_->to_encode.push(std::move(*item))) count_drop("encoder busy");
   }
 }
@@ -316,6 +320,7 @@ void RgbdServer::publish_loop() {
     {
       const std::lock_guard lock(stats_mutex_);
       ++published_window_;
+      if (state_ == "starting") state_ = "running";  // the first frame is out
     }
     if (++published_ == options_.max_frames && options_.max_frames > 0) {
       finished_ = true;
@@ -338,8 +343,12 @@ msg::ServerStatus RgbdServer::make_status() {
   for (const char* name : kStages) {
     msg::StageTime t;
     t.stage(name);
+    // A server slower than one frame a second finishes no frame in many windows: they carry the
+    // stage's latest time, so a subscriber can tell what a frame costs (0 until it ran once).
     const auto it = stage_window_.find(name);
-    t.ms(it == stage_window_.end() ? 0.0f : float(it->second.first / it->second.second));
+    if (it != stage_window_.end()) last_stage_ms_[name] = it->second.first / it->second.second;
+    const auto last = last_stage_ms_.find(name);
+    t.ms(last == last_stage_ms_.end() ? 0.0f : float(last->second));
     stages.push_back(t);
   }
   stage_window_.clear();

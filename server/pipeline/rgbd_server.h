@@ -98,6 +98,7 @@ class RgbdServer {
 
   mutable std::mutex stats_mutex_;
   std::map<std::string, std::pair<double, int>> stage_window_;  // sum ms, count this second
+  std::map<std::string, double> last_stage_ms_;  // the latest second's mean that had frames
   std::map<std::string, std::uint64_t> drops_;
   // The source's camera status, copied by the capture thread (the only one calling the source).
   std::vector<capture::CameraStatus> cameras_;

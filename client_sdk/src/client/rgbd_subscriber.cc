@@ -17,6 +17,8 @@ const char* to_string(ConnectionState state) {
   switch (state) {
     case ConnectionState::kNoServer:
       return "no server";
+    case ConnectionState::kWaiting:
+      return "waiting for the first frame";
     case ConnectionState::kReceiving:
       return "receiving";
     case ConnectionState::kStalled:
@@ -137,8 +139,8 @@ ConnectionState RgbdSubscriber::state() const {
   if (stats_.frames_received > 0 && since < std::chrono::duration<double>(options_.stall_after_s)) {
     return ConnectionState::kReceiving;
   }
-  return subscriber_->matched_servers() > 0 ? ConnectionState::kStalled
-                                            : ConnectionState::kNoServer;
+  if (subscriber_->matched_servers() == 0) return ConnectionState::kNoServer;
+  return stats_.frames_received > 0 ? ConnectionState::kStalled : ConnectionState::kWaiting;
 }
 
 SubscriberStats RgbdSubscriber::stats() const {

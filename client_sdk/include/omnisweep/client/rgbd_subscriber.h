@@ -64,8 +64,10 @@ struct RgbdFrame {
 
 enum class ConnectionState {
   kNoServer,   // no server's frame writer is matched
+  kWaiting,    // a server is matched and no frame has arrived yet (it may still be computing
+               // its first: status() says what it is doing)
   kReceiving,  // a frame arrived within SubscriberOptions::stall_after_s
-  kStalled,    // a server is matched but no frame arrived for stall_after_s
+  kStalled,    // frames arrived, then none for stall_after_s while a server is still matched
 };
 const char* to_string(ConnectionState state);
 
