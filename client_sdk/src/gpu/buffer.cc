@@ -2,6 +2,7 @@
 
 #include <cstring>
 
+#include "omnisweep/gpu/command_log.h"
 #include "staging.h"
 
 namespace omnisweep::gpu {
@@ -65,6 +66,7 @@ void Buffer::check_range(std::size_t bytes, std::size_t offset) const {
 void Buffer::upload(const void* data, std::size_t bytes, std::size_t offset) {
   check_range(bytes, offset);
   if (bytes == 0) return;
+  if (CommandLog* log = context_->command_log()) log->add_transfer(bytes, true);
   if (mapped_) {  // host writes to mapped device memory are fast, even uncached (write-combined)
     std::memcpy(static_cast<char*>(mapped_) + offset, data, bytes);
     if (!memory_.coherent) {
@@ -84,6 +86,7 @@ void Buffer::upload(const void* data, std::size_t bytes, std::size_t offset) {
 void Buffer::download(void* data, std::size_t bytes, std::size_t offset) const {
   check_range(bytes, offset);
   if (bytes == 0) return;
+  if (CommandLog* log = context_->command_log()) log->add_transfer(bytes, false);
   if (mapped_ && memory_.cached) {  // reads of uncached device memory go through staging instead
     if (!memory_.coherent) {
       context_->device().invalidateMappedMemoryRanges(

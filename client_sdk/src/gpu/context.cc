@@ -6,6 +6,7 @@
 #include <cstdlib>
 #include <sstream>
 
+#include "omnisweep/gpu/command_log.h"
 #include "staging.h"
 
 namespace omnisweep::gpu {
@@ -345,6 +346,7 @@ void Context::run_commands(
   cmd.end();
   const vk::raii::Fence fence(device_, vk::FenceCreateInfo());
   const vk::CommandBuffer raw = *cmd;
+  if (CommandLog* log = command_log()) log->add_round_trip(CommandLog::kTransferStage);
   submit(raw, *fence);
   if (device_.waitForFences(*fence, VK_TRUE, UINT64_MAX) != vk::Result::eSuccess) {
     throw GpuError("waiting for the GPU failed");

@@ -5,6 +5,7 @@
 #include <cstdlib>
 
 #include "omnisweep/gpu/buffer.h"
+#include "omnisweep/gpu/command_log.h"
 #include "omnisweep/gpu/context.h"
 #include "omnisweep/gpu/image.h"
 #include "omnisweep/gpu/kernel.h"
@@ -193,6 +194,57 @@ TEST_F(ValidatedGpuTest, KernelWithPushAndSpecializationConstants) {
     EXPECT_EQ(seq.stage_ms()[0].first, "fill");
     EXPECT_GE(seq.stage_ms()[0].second, 0.0);
   }
+}
+
+// The command log counts what was recorded: dispatches with the bytes of what they bind,
+// barriers, waits and transfers, by stage; against counts made here from the sizes.
+TEST_F(ValidatedGpuTest, CommandLogCountsTheRecordedStream) {
+  CommandLog log;
+  context().set_command_log(&log);
+  Buffer a(context(), 1000 * 4);
+  Image image(context(), 13, 7, ImageFormat::kRgba8);
+  std::vector<float> values(1000, 1.0f);
+  a.upload(std::span<const float>(values));  // a transfer (a round trip where it is staged)
+  const Kernel fill(context(), "fill", fill_layout(1, 64));
+  const Kernel copy(context(), "copy_image_to_buffer",
+                    {.bindings = {1}, .storage_images = 1, .push_constant_bytes = 12, .constants = {}});
+  Sequence seq(context());
+  seq.begin();
+  seq.begin_stage("one");
+  seq.dispatch(fill, {a}, FillPush{1000, 2.0f}, fill.groups_for(1000, 1));
+  seq.barrier();
+  seq.begin_stage("two");
+  struct {
+    std::uint32_t width, height;
+    float gain;
+  } push{13, 7, 1.0f};
+  seq.dispatch(copy, {a, image}, push, copy.groups_for(13, 7));
+  seq.barrier();
+  seq.dispatch(fill, {a}, FillPush{10, 1.0f}, fill.groups_for(10, 1));
+  seq.submit_and_wait();
+  (void)a.download<float>();
+  context().set_command_log(nullptr);
+
+  EXPECT_EQ(log.stages(), (std::vector<std::string>{CommandLog::kTransferStage, "one", "two"}));
+  const CommandTotals one = log.totals("one"), two = log.totals("two"), all = log.totals();
+  EXPECT_EQ(one.dispatches, 1u);
+  EXPECT_EQ(one.bound_bytes, 4000u);
+  EXPECT_EQ(one.invocations, 16u * 64u);  // 16 groups of 64
+  EXPECT_EQ(one.barriers, 1u);
+  EXPECT_EQ(one.round_trips, 0u);
+  EXPECT_EQ(two.dispatches, 2u);
+  EXPECT_EQ(two.bound_bytes, 4000u + 13u * 7u * 4u + 4000u);
+  EXPECT_EQ(two.barriers, 1u);
+  EXPECT_EQ(two.round_trips, 1u);  // the submit, charged to its last stage
+  EXPECT_EQ(all.dispatches, 3u);
+  EXPECT_EQ(all.upload_bytes, 4000u);
+  EXPECT_EQ(all.download_bytes, 4000u);
+  // The image's move into its resting layout and staged transfers wait for the GPU; mapped
+  // transfers do not.
+  const std::uint64_t staged = a.memory().mapped ? 0 : 1;
+  const std::uint64_t staged_down = (a.memory().mapped && a.memory().cached) ? 0 : 1;
+  EXPECT_EQ(log.totals(CommandLog::kTransferStage).round_trips, 1 + staged + staged_down);
+  EXPECT_EQ(log.dispatches()[1].kernel, "copy_image_to_buffer");
 }
 
 TEST_F(ValidatedGpuTest, StorageImagesRoundTripAndBindInKernels) {

@@ -2,6 +2,7 @@
 
 #include <cstring>
 
+#include "omnisweep/gpu/command_log.h"
 #include "staging.h"
 
 namespace omnisweep::gpu {
@@ -99,6 +100,7 @@ void Image::upload(const void* data, std::size_t size) {
     throw GpuError("GPU image upload of " + std::to_string(size) + " bytes, the image holds " +
                    std::to_string(bytes()));
   }
+  if (CommandLog* log = context_->command_log()) log->add_transfer(size, true);
   const auto staging = context_->staging().upload(size);
   std::memcpy(staging.data(), data, size);
   staging.flush();
@@ -116,6 +118,7 @@ void Image::download(void* data, std::size_t size) const {
     throw GpuError("GPU image download of " + std::to_string(size) + " bytes, the image holds " +
                    std::to_string(bytes()));
   }
+  if (CommandLog* log = context_->command_log()) log->add_transfer(size, false);
   const auto staging = context_->staging().readback(size);
   context_->run_commands([&](const vk::raii::CommandBuffer& cmd) {
     transition(cmd, *image_, vk::ImageLayout::eGeneral, vk::ImageLayout::eTransferSrcOptimal);

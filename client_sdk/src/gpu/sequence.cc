@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "omnisweep/gpu/command_log.h"
+
 namespace omnisweep::gpu {
 
 Sequence::Sequence(const Context& context, std::uint32_t max_dispatches, std::uint32_t max_stages)
@@ -71,6 +73,7 @@ void Sequence::dispatch(const Kernel& kernel, const std::vector<Binding>& bindin
     }
   }
   std::vector<std::vector<vk::DescriptorBufferInfo>> infos(buffer_bindings);
+  std::uint64_t bound_bytes = 0;
   for (std::size_t b = 0; b < buffer_bindings; ++b) {
     if (bindings[b].image || bindings[b].buffers.size() != layout.bindings[b]) {
       throw GpuError("kernel " + kernel.name() + ": binding " + std::to_string(b) + " takes " +
@@ -85,6 +88,7 @@ void Sequence::dispatch(const Kernel& kernel, const std::vector<Binding>& bindin
                        std::to_string(limits.max_storage_buffer_range >> 20) + " MiB");
       }
       infos[b].emplace_back(buffer->handle(), 0, VK_WHOLE_SIZE);
+      bound_bytes += buffer->size();
     }
   }
   // Everything is checked: allocate the set and hand it to the pool at once (the pool frees it
@@ -114,6 +118,21 @@ void Sequence::dispatch(const Kernel& kernel, const std::vector<Binding>& bindin
                                     bytes);
   }
   cmd.dispatch(groups[0], groups[1], groups[2]);
+  if (CommandLog* log = context_->command_log()) {
+    for (std::size_t b = buffer_bindings; b < bindings.size(); ++b)
+      bound_bytes += bindings[b].image->bytes();
+    const auto& local = layout.local_size;
+    log->add_dispatch({.kernel = kernel.name(),
+                       .stage = current_stage(),
+                       .groups = groups,
+                       .invocations = std::uint64_t(groups[0]) * groups[1] * groups[2] *
+                                      local[0] * local[1] * local[2],
+                       .bound_bytes = bound_bytes});
+  }
+}
+
+std::string Sequence::current_stage() const {
+  return stage_open_ ? stage_names_.back() : std::string();
 }
 
 void Sequence::barrier() {
@@ -124,6 +143,7 @@ void Sequence::barrier() {
   const auto stages =
       vk::PipelineStageFlagBits::eComputeShader | vk::PipelineStageFlagBits::eTransfer;
   commands_[0].pipelineBarrier(stages, stages, {}, memory, nullptr, nullptr);
+  if (CommandLog* log = context_->command_log()) log->add_barrier(current_stage());
 }
 
 void Sequence::copy(const Buffer& source, Buffer& destination, vk::DeviceSize bytes,
@@ -161,6 +181,9 @@ void Sequence::end_stage() {
 
 void Sequence::submit_and_wait() {
   if (!recording_) throw GpuError("submit_and_wait() without begin()");
+  // The wait is charged to the last stage this submission recorded.
+  if (CommandLog* log = context_->command_log())
+    log->add_round_trip(stage_names_.empty() ? std::string() : stage_names_.back());
   end_stage();
   const auto& cmd = commands_[0];
   cmd.end();

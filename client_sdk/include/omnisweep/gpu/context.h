@@ -60,6 +60,7 @@ struct MemoryChoice {
 };
 
 class StagingPool;
+class CommandLog;
 
 struct DeviceInfo {
   int index = 0;
@@ -111,6 +112,11 @@ class Context {
   std::uint64_t peak_allocated_bytes() const { return peak_allocated_; }
   void track_allocation(std::int64_t bytes);
 
+  // Where the runtime records what it is asked to do (null: nowhere, the default). The log must
+  // outlive its use; attach it before recording.
+  void set_command_log(CommandLog* log) { command_log_ = log; }
+  CommandLog* command_log() const { return command_log_; }
+
   // The staging buffers every transfer reuses (staging.h), one for uploads, one for readback.
   StagingPool& staging() const { return *staging_; }
 
@@ -146,6 +152,7 @@ class Context {
   HiddenMemory hidden_memory_;
   std::atomic<std::uint64_t> allocated_{0};
   std::atomic<std::uint64_t> peak_allocated_{0};
+  std::atomic<CommandLog*> command_log_{nullptr};
   std::unique_ptr<StagingPool> staging_;
 };
 

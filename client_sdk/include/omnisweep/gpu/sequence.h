@@ -70,6 +70,8 @@ class Sequence {
   std::vector<std::pair<std::string, double>> stage_ms() const;
 
  private:
+  std::string current_stage() const;  // the open stage's name, "" when none
+
   const Context* context_;
   std::uint32_t max_stages_;
   vk::raii::DescriptorPool pool_{nullptr};
