@@ -37,7 +37,8 @@ TEST(GpuDevices, ListsDevicesAndSelectsByIndexOrName) {
   const Context by_index(ContextOptions{.device = "0", .validation = false, .hidden_memory = {}});
   EXPECT_EQ(by_index.info().name, devices[0].name);
   const std::string fragment = devices[0].name.substr(0, 4);
-  const Context by_name(ContextOptions{.device = fragment, .validation = false, .hidden_memory = {}});
+  const Context by_name(
+      ContextOptions{.device = fragment, .validation = false, .hidden_memory = {}});
   EXPECT_NE(by_name.info().name.find(fragment), std::string::npos);
   try {
     Context none(ContextOptions{.device = "no-such-gpu", .validation = false, .hidden_memory = {}});
@@ -206,8 +207,9 @@ TEST_F(ValidatedGpuTest, CommandLogCountsTheRecordedStream) {
   std::vector<float> values(1000, 1.0f);
   a.upload(std::span<const float>(values));  // a transfer (a round trip where it is staged)
   const Kernel fill(context(), "fill", fill_layout(1, 64));
-  const Kernel copy(context(), "copy_image_to_buffer",
-                    {.bindings = {1}, .storage_images = 1, .push_constant_bytes = 12, .constants = {}});
+  const Kernel copy(
+      context(), "copy_image_to_buffer",
+      {.bindings = {1}, .storage_images = 1, .push_constant_bytes = 12, .constants = {}});
   Sequence seq(context());
   seq.begin();
   seq.begin_stage("one");

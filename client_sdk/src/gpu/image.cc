@@ -47,7 +47,8 @@ Image::Image(Context& context, int width, int height, ImageFormat format)
     memory_ = vk::raii::DeviceMemory(
         context.device(),
         vk::MemoryAllocateInfo(
-            req.size, context.choose_memory(req.memoryTypeBits, MemoryUse::kDevice, req.size).type));
+            req.size,
+            context.choose_memory(req.memoryTypeBits, MemoryUse::kDevice, req.size).type));
     image_.bindMemory(*memory_, 0);
     view_ = vk::raii::ImageView(context.device(),
                                 vk::ImageViewCreateInfo({}, *image_, vk::ImageViewType::e2D,
