@@ -28,6 +28,7 @@
 #include "server/depth/depth_inputs.h"
 #include "server/depth/depth_reference.h"
 #include "server/tools/bench_codecs.h"
+#include "server/tools/bench_model.h"
 #include "server/tools/bench_record.h"
 #include "server/tools/bench_reproject.h"
 #include "server/tools/bench_security.h"
@@ -274,8 +275,9 @@ int run(int argc, char** argv) {
   std::vector<int> resolutions = {256, 512, 1024};
   int filter_resolution = 1024, iterations = 3;
   bool json = false, skip_fbs = false;
-  std::vector<std::string> sections = {"stages",    "filters", "codecs",
-                                       "reproject", "record",  "security"};
+  std::vector<std::string> sections = {"model",     "stages", "filters", "codecs",
+                                       "reproject", "record", "security"};
+  int model_resolution = 0;
   std::string kaist_dir;
   if (const char* shared = std::getenv("OMNISWEEP_SHARED_DIR"))
     kaist_dir = std::string(shared) + "/data/kaist-rig";
@@ -295,9 +297,15 @@ int run(int argc, char** argv) {
   app.add_flag("--skip-fbs", skip_fbs, "Leave out the (slow) fast bilateral solver");
   app.add_option(
          "--sections", sections,
-         "What to measure: stages, filters, codecs, reproject, record, security (default: all)")
-      ->check(CLI::IsMember({"stages", "filters", "codecs", "reproject", "record", "security"}))
+         "What to measure: model, stages, filters, codecs, reproject, record, security (default: "
+         "all)")
+      ->check(CLI::IsMember(
+          {"model", "stages", "filters", "codecs", "reproject", "record", "security"}))
       ->delimiter(',');
+  app.add_option("--model-resolution", model_resolution,
+                 "Matching resolution of the cost model's frame (panorama 2R x R; default: the "
+                 "defaults, 1024^2 and 2048x1024)")
+      ->check(CLI::Range(16, 4096));
   app.add_option("--kaist", kaist_dir,
                  "kaist-rig dataset for the codec comparison (default ../shared/data/kaist-rig)");
   CLI11_PARSE(app, argc, argv);
@@ -313,6 +321,7 @@ int run(int argc, char** argv) {
   const auto want = [&](const char* section) {
     return std::find(sections.begin(), sections.end(), section) != sections.end();
   };
+  if (want("model")) tools::model_section(context, model_resolution, json);
   if (want("stages")) stage_section(context, resolutions, iterations, json);
   if (want("filters")) filter_section(context, filter_resolution, iterations, skip_fbs, json);
   if (want("codecs")) tools::codec_section(context, kaist_dir, json);

@@ -1,0 +1,131 @@
+// The frame cost model. Its inputs are counted, not typed in: the dispatches, barriers, host
+// round trips and bound bytes that DepthEstimator and Stitcher record for one frame
+// (gpu::CommandLog). Its assumptions, stated once here and in docs/performance.md:
+//   - a dispatch moves the bytes of what it binds once through global memory (an upper bound for
+//     kernels that touch part of a binding, a lower bound for ones that read a texel repeatedly
+//     past the caches), at kBandwidthEfficiency of the device's peak bandwidth;
+//   - every dispatch costs kDispatchUs of launch, every barrier kBarrierUs of drain, every host
+//     round trip kRoundTripUs (submit, fence wait, wake-up);
+//   - arithmetic is not yet modelled (the kernels' FLOPs per invocation are not counted), so the
+//     prediction is the memory-bound time: a lower bound where a kernel is compute-bound.
+#include "server/tools/bench_model.h"
+
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "omnisweep/gpu/command_log.h"
+#include "server/depth/depth_estimator.h"
+#include "server/depth/depth_inputs.h"
+#include "server/stitch/stitcher.h"
+#include "server/synthetic/synthetic_rig.h"
+
+namespace omnisweep::tools {
+namespace {
+
+constexpr double kBandwidthEfficiency = 0.75;
+constexpr double kDispatchUs = 4.0, kBarrierUs = 2.0, kRoundTripUs = 50.0;
+
+struct DeviceProfile {
+  const char* name;
+  double bandwidth_gb_s;  // peak DRAM bandwidth
+  double tflops;          // peak fp32 (reported; not yet part of the prediction)
+};
+
+constexpr DeviceProfile kProfiles[] = {
+    {"Jetson AGX Xavier", 137.0, 1.4}, {"Jetson AGX Orin 64GB", 204.8, 5.3},
+    {"RTX 4090", 1008.0, 82.0},        {"H100 SXM", 3350.0, 67.0},
+    {"H200", 4800.0, 67.0},
+};
+
+double predicted_ms(const gpu::CommandTotals& t, const DeviceProfile& device) {
+  const double memory_s = double(t.bound_bytes + t.upload_bytes + t.download_bytes) /
+                          (kBandwidthEfficiency * device.bandwidth_gb_s * 1e9);
+  const double overhead_us =
+      kDispatchUs * double(t.dispatches) + kBarrierUs * double(t.barriers) +
+      kRoundTripUs * double(t.round_trips);
+  return memory_s * 1e3 + overhead_us * 1e-3;
+}
+
+}  // namespace
+
+void model_section(gpu::Context& context, int resolution, bool json) {
+  depth::DepthOptions options;
+  stitch::StitchOptions stitch_options;
+  if (resolution > 0) {
+    options.matching_width = options.matching_height = resolution;
+    stitch_options.panorama_width = 2 * resolution;
+    stitch_options.panorama_height = resolution;
+  }
+  const synthetic::SyntheticRig rig;
+  const Rig& full_rig = rig.rig();
+  const Rig matching_rig = full_rig.resized(options.matching_width, options.matching_height);
+  std::vector<std::optional<Gray8Image>> masks;
+  for (auto& m : rig.masks()) masks.emplace_back(std::move(m));
+  masks = depth::matching_masks(masks, options);
+  depth::DepthEstimator estimator(context, matching_rig, masks, options);
+  stitch::Stitcher stitcher(context, matching_rig, full_rig, options.references, masks,
+                            stitch_options);
+  synthetic::SyntheticFrame frame = rig.render(0, 8, 4);
+  std::vector<Rgb8Image> images;
+  for (auto& camera : frame.cameras) images.push_back(std::move(camera.rgb));
+
+  // One frame as the server runs it, from the camera images on the host to the panorama on the
+  // host, recorded.
+  gpu::CommandLog log;
+  context.set_command_log(&log);
+  const auto matching = depth::matching_images(images, options);
+  const depth::DepthResult result = estimator.estimate(depth::pointers(matching));
+  const auto colour = depth::reference_colour_images(images, full_rig, options.references);
+  stitcher.stitch(depth::pointers(result.distance), depth::pointers(colour));
+  context.set_command_log(nullptr);
+
+  std::vector<std::string> stages = log.stages();
+  stages.push_back("");  // the frame
+  const std::string frame_name = std::to_string(options.matching_width) + "^2 matching, " +
+                                 std::to_string(options.num_candidates) + " candidates, " +
+                                 std::to_string(stitch_options.panorama_width) + "x" +
+                                 std::to_string(stitch_options.panorama_height) + " panorama";
+  if (!json) {
+    std::printf("\nFrame cost model: one frame (%s) as recorded by the estimator and stitcher\n",
+                frame_name.c_str());
+    std::printf("assumed: bound bytes once at %.0f %% of peak bandwidth; %.0f us per dispatch, "
+                "%.0f us per barrier, %.0f us per host round trip; arithmetic not modelled\n",
+                100 * kBandwidthEfficiency, kDispatchUs, kBarrierUs, kRoundTripUs);
+    std::printf("%-14s %10s %9s %11s %12s %12s", "stage", "dispatches", "barriers",
+                "round trips", "bound MB", "host MB");
+    for (const auto& d : kProfiles) std::printf(" %12.12s", d.name);
+    std::printf("   (predicted ms)\n");
+  }
+  for (const std::string& stage : stages) {
+    const gpu::CommandTotals t = log.totals(stage);
+    const std::string name = stage.empty() ? "frame" : stage;
+    if (json) {
+      std::printf(
+          "{\"kind\": \"model\", \"frame\": \"%s\", \"stage\": \"%s\", \"dispatches\": %llu, "
+          "\"barriers\": %llu, \"round_trips\": %llu, \"bound_bytes\": %llu, \"upload_bytes\": "
+          "%llu, \"download_bytes\": %llu, \"invocations\": %llu",
+          frame_name.c_str(), name.c_str(), static_cast<unsigned long long>(t.dispatches),
+          static_cast<unsigned long long>(t.barriers),
+          static_cast<unsigned long long>(t.round_trips),
+          static_cast<unsigned long long>(t.bound_bytes),
+          static_cast<unsigned long long>(t.upload_bytes),
+          static_cast<unsigned long long>(t.download_bytes),
+          static_cast<unsigned long long>(t.invocations));
+      std::printf(", \"predicted_ms\": {");
+      for (const auto& d : kProfiles)
+        std::printf("%s\"%s\": %.3f", &d == kProfiles ? "" : ", ", d.name, predicted_ms(t, d));
+      std::printf("}}\n");
+      continue;
+    }
+    std::printf("%-14s %10llu %9llu %11llu %12.1f %12.1f", name.c_str(),
+                static_cast<unsigned long long>(t.dispatches),
+                static_cast<unsigned long long>(t.barriers),
+                static_cast<unsigned long long>(t.round_trips), double(t.bound_bytes) * 1e-6,
+                double(t.upload_bytes + t.download_bytes) * 1e-6);
+    for (const auto& d : kProfiles) std::printf(" %12.2f", predicted_ms(t, d));
+    std::printf("\n");
+  }
+}
+
+}  // namespace omnisweep::tools
