@@ -1,9 +1,9 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
-// One pass of directional inpainting of colour (ALGORITHM.md §5 step 2, as
-// directional_inpaint.comp does for distance): an empty pixel (alpha 0) takes the weighted mean
-// of its two background-side neighbours that already hold a colour in the previous pass
-// (ping-pong buffers). Fills the disocclusions of reprojected views from the background.
+// Directional inpainting of colour (ALGORITHM.md §5 step 2, as directional_inpaint.comp does for
+// distance), up to 8 passes per dispatch (inpaint_tile.glsl): an empty pixel (alpha 0) takes the
+// weighted mean of its two background-side neighbours that held a colour after the previous
+// pass. Fills the disocclusions of reprojected views from the background.
 layout(local_size_x_id = 100, local_size_y_id = 101, local_size_z_id = 102) in;
 
 #include "inpaint.glsl"
@@ -12,41 +12,34 @@ layout(local_size_x_id = 100, local_size_y_id = 101, local_size_z_id = 102) in;
 layout(std430, set = 0, binding = 0) readonly buffer Directions { Direction directions[]; };
 layout(std430, set = 0, binding = 1) readonly buffer Source { uint source[]; };
 layout(std430, set = 0, binding = 2) writeonly buffer Destination { uint destination[]; };
-// filled[pass] becomes 1 when this pass filled any pixel; a pass that fills none has reached the
-// fixed point, so the caller may stop (Reprojector does; the stitcher runs a fixed count).
+// filled[pass] becomes 1 when that pass filled any pixel (see directional_inpaint.comp).
 layout(std430, set = 0, binding = 3) buffer Filled { uint filled[]; };
 layout(push_constant) uniform Push {
   uint width;
   uint height;
   uint wrap_x;
-  uint pass;
+  uint pass;    // the first pass of this dispatch
+  uint passes;  // 1 to 8
 } push;
 
-void main() {
-  const uvec2 q = gl_GlobalInvocationID.xy;
-  if (q.x >= push.width || q.y >= push.height) return;
-  const uint index = q.y * push.width + q.x;
-  const uint own = source[index];
-  if ((own >> 24) != 0u) {
-    destination[index] = own;
-    return;
-  }
-  const Direction d = directions[index];
+const uint kEmptyValue = 0u;
+
+bool is_empty(uint value) { return (value >> 24) == 0u; }
+
+uint blend(uint v0, float w0, uint v1, float w1) {
   vec3 sum = vec3(0.0);
   float total = 0.0;
-  for (uint k = 0u; k < 2u; ++k) {
-    const int n = inpaint_neighbour(d, k, q, push.width, push.height, push.wrap_x);
-    if (n < 0) continue;
-    const uint value = source[n];
-    if ((value >> 24) == 0u) continue;
-    const float w = k == 0u ? d.weight0 : d.weight1;
-    sum += w * unpack_rgb(value);
-    total += w;
+  if (w0 > 0.0) {
+    sum += w0 * unpack_rgb(v0);
+    total += w0;
   }
-  if (total > 0.0) {
-    destination[index] = pack_rgb(uvec3(clamp(sum / total + 0.5, 0.0, 255.0))) | 0xff000000u;
-    filled[push.pass] = 1u;
-  } else {
-    destination[index] = 0u;
+  if (w1 > 0.0) {
+    sum += w1 * unpack_rgb(v1);
+    total += w1;
   }
+  return pack_rgb(uvec3(clamp(sum / total + 0.5, 0.0, 255.0))) | 0xff000000u;
 }
+
+#include "inpaint_tile.glsl"
+
+void main() { inpaint_tile(); }

@@ -1,5 +1,6 @@
 #include "omnisweep/reproject/forward_warp.h"
 
+#include <algorithm>
 #include <cstring>
 #include <stdexcept>
 
@@ -11,8 +12,29 @@ constexpr std::uint32_t kEmpty = 0xffffffffu;
 constexpr int kMaxPasses = 1024;
 
 struct InpaintPush {
-  std::uint32_t width, height, wrap_x, pass;
+  std::uint32_t width, height, wrap_x, pass, passes;
 };
+
+// Passes one inpainting dispatch runs (kHalo in shaders/include/inpaint_tile.glsl), its
+// workgroup shape, and the tile side that fits a device's shared memory: two uints per pixel of
+// the tile and its halo.
+constexpr int kPassesPerDispatch = 8;
+constexpr std::uint32_t kInpaintGroup = 16;
+std::uint32_t inpaint_tile(const gpu::Context& context) {
+  const auto fits = [&](std::uint32_t tile) {
+    const std::uint64_t side = tile + 2 * kPassesPerDispatch;
+    return side * side * 8 <= context.info().max_shared_memory;
+  };
+  return fits(32) ? 32 : 16;
+}
+
+gpu::KernelLayout inpaint_layout(std::uint32_t tile) {
+  return {.bindings = {1, 1, 1, 1},
+          .storage_images = 0,
+          .push_constant_bytes = sizeof(InpaintPush),
+          .local_size = {kInpaintGroup, kInpaintGroup, 1},
+          .constants = {gpu::SpecConstant::of(0, tile)}};
+}
 
 std::uint64_t pixels(const GpuCamera& c) { return std::uint64_t(c.width) * c.height; }
 
@@ -27,11 +49,11 @@ ForwardWarper::ForwardWarper(gpu::Context& context, const GpuCamera& source,
       directions_(context, pixels(target) * 16),
       buffers_{gpu::Buffer(context, pixels(target) * 4), gpu::Buffer(context, pixels(target) * 4)},
       filled_(context, kMaxPasses * 4),
+      tile_(inpaint_tile(context)),
       warp_(context, "forward_warp", {.bindings = {1, 1, 1}, .push_constant_bytes = 4}),
       directions_kernel_(context, "inpaint_directions",
                          {.bindings = {1, 1}, .push_constant_bytes = 8}),
-      inpaint_(context, "directional_inpaint",
-               {.bindings = {1, 1, 1, 1}, .push_constant_bytes = sizeof(InpaintPush)}) {
+      inpaint_(context, "directional_inpaint", inpaint_layout(tile_)) {
   if (source.width == 0 || target.width == 0)
     throw std::invalid_argument("forward warp: empty source or target");
   if (!(options.min_distance > 0) || !(options.max_distance > options.min_distance) ||
@@ -50,9 +72,7 @@ ForwardWarper::ForwardWarper(gpu::Context& context, const GpuCamera& source,
     sample_colour_.emplace(
         context, "sample_view_colour",
         gpu::KernelLayout{.bindings = {1, 1, 1, 1, 1}, .push_constant_bytes = 4});
-    inpaint_colour_.emplace(
-        context, "directional_inpaint_colour",
-        gpu::KernelLayout{.bindings = {1, 1, 1, 1}, .push_constant_bytes = sizeof(InpaintPush)});
+    inpaint_colour_.emplace(context, "directional_inpaint_colour", inpaint_layout(tile_));
   }
   set_target(target);
 }
@@ -73,13 +93,18 @@ void ForwardWarper::set_inpaint_passes(int passes) {
 }
 
 void ForwardWarper::record_inpaint(gpu::Sequence& seq, const gpu::Kernel& kernel,
-                                   gpu::Buffer* buffers, int first_pass, int passes) const {
-  for (int pass = first_pass; pass < first_pass + passes; ++pass) {
+                                   gpu::Buffer* buffers, int first_pass, int passes,
+                                   int* current) const {
+  const std::array<std::uint32_t, 3> groups = {(target_.width + tile_ - 1) / tile_,
+                                               (target_.height + tile_ - 1) / tile_, 1};
+  for (int pass = first_pass; pass < first_pass + passes; pass += kPassesPerDispatch) {
+    const int n = std::min(kPassesPerDispatch, first_pass + passes - pass);
     const InpaintPush push{target_.width, target_.height, target_.model == 4 ? 1u : 0u,
-                           std::uint32_t(pass)};
-    seq.dispatch(kernel, {directions_, buffers[pass % 2], buffers[(pass + 1) % 2], filled_}, push,
-                 kernel.groups_for(target_.width, target_.height));
+                           std::uint32_t(pass), std::uint32_t(n)};
+    seq.dispatch(kernel, {directions_, buffers[*current], buffers[1 - *current], filled_}, push,
+                 groups);
     seq.barrier();
+    *current = 1 - *current;
   }
 }
 
@@ -100,17 +125,17 @@ void ForwardWarper::record_warp(gpu::Sequence& seq, const gpu::Buffer& distance)
   seq.dispatch(warp_, {cameras_, distance, buffers_[0]}, splat,
                warp_.groups_for(source_.width, source_.height));
   seq.barrier();
+  result_ = 0;
 }
 
 void ForwardWarper::record(gpu::Sequence& seq, const gpu::Buffer& distance) {
   record_warp(seq, distance);
-  record_inpaint(seq, inpaint_, buffers_, 0, options_.inpaint_passes);
-  passes_done_ = options_.inpaint_passes;
+  record_inpaint(seq, inpaint_, buffers_, 0, options_.inpaint_passes, &result_);
 }
 
 int ForwardWarper::run_until_filled(gpu::Sequence& seq, const gpu::Kernel& kernel,
                                     gpu::Buffer* buffers, int max_passes, int batch,
-                                    double* gpu_ms) {
+                                    double* gpu_ms, int* current) {
   if (max_passes < 0 || max_passes > kMaxPasses || batch < 1)
     throw std::invalid_argument("forward warp: need max passes in [0, 1024] and batch >= 1");
   seq.fill(filled_, 0);
@@ -118,7 +143,7 @@ int ForwardWarper::run_until_filled(gpu::Sequence& seq, const gpu::Kernel& kerne
   int done = 0;
   for (;;) {
     const int n = std::min(batch, max_passes - done);
-    record_inpaint(seq, kernel, buffers, done, n);
+    record_inpaint(seq, kernel, buffers, done, n, current);
     seq.submit_and_wait();
     for (const auto& [stage, ms] : seq.stage_ms()) *gpu_ms += ms;
     done += n;
@@ -133,8 +158,7 @@ int ForwardWarper::run_until_filled(gpu::Sequence& seq, const gpu::Kernel& kerne
 
 int ForwardWarper::inpaint_until_filled(gpu::Sequence& seq, int max_passes, int batch,
                                         double* gpu_ms) {
-  passes_done_ = run_until_filled(seq, inpaint_, buffers_, max_passes, batch, gpu_ms);
-  return passes_done_;
+  return run_until_filled(seq, inpaint_, buffers_, max_passes, batch, gpu_ms, &result_);
 }
 
 void ForwardWarper::record_colour_sample(gpu::Sequence& seq, const gpu::Buffer& distance,
@@ -146,24 +170,24 @@ void ForwardWarper::record_colour_sample(gpu::Sequence& seq, const gpu::Buffer& 
   seq.dispatch(*sample_colour_, {cameras_, result(), distance, source_colour, colour_buffers_[0]},
                tolerance, sample_colour_->groups_for(target_.width, target_.height));
   seq.barrier();
+  colour_result_ = 0;
 }
 
 void ForwardWarper::record_colour(gpu::Sequence& seq, const gpu::Buffer& distance,
                                   const gpu::Buffer& source_colour) {
   record_colour_sample(seq, distance, source_colour);
-  record_inpaint(seq, *inpaint_colour_, colour_buffers_.data(), 0, options_.inpaint_passes);
-  colour_passes_done_ = options_.inpaint_passes;
+  record_inpaint(seq, *inpaint_colour_, colour_buffers_.data(), 0, options_.inpaint_passes,
+                 &colour_result_);
 }
 
 int ForwardWarper::inpaint_colour_until_filled(gpu::Sequence& seq, int max_passes, int batch,
                                                double* gpu_ms) {
   if (!options_.colour) throw std::logic_error("forward warp: colour needs WarpOptions::colour");
-  colour_passes_done_ =
-      run_until_filled(seq, *inpaint_colour_, colour_buffers_.data(), max_passes, batch, gpu_ms);
-  return colour_passes_done_;
+  return run_until_filled(seq, *inpaint_colour_, colour_buffers_.data(), max_passes, batch, gpu_ms,
+                          &colour_result_);
 }
 
-const gpu::Buffer& ForwardWarper::result() const { return buffers_[passes_done_ % 2]; }
+const gpu::Buffer& ForwardWarper::result() const { return buffers_[result_]; }
 
 FloatImage ForwardWarper::download() const {
   const std::vector<std::uint32_t> bits = result().download<std::uint32_t>();
@@ -178,7 +202,7 @@ Rgb8Image ForwardWarper::download_colour() const {
   if (!options_.colour)
     throw std::logic_error("forward warp: download_colour needs WarpOptions::colour");
   const std::vector<std::uint32_t> packed =
-      colour_buffers_[colour_passes_done_ % 2].download<std::uint32_t>();
+      colour_buffers_[colour_result_].download<std::uint32_t>();
   Rgb8Image out(int(target_.width), int(target_.height), 3, 0);
   std::uint8_t* rgb = out.data();
   for (std::size_t p = 0; p < packed.size(); ++p) {

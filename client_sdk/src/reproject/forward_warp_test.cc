@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 
 #include "omnisweep/gpu/buffer.h"
 #include "tests/support/gpu_test_support.h"
@@ -31,6 +32,18 @@ Eigen::Vector3d pixel_ray(int u, int v) {
   return Eigen::Vector3d((u - kCentre) / kFocal, (v - kCentre) / kFocal, 1).normalized();
 }
 
+// The source camera's distance map of the scene, on the GPU.
+gpu::Buffer source_distance(gpu::Context& context) {
+  std::vector<float> distance(kSize * kSize);
+  bool near;
+  for (int v = 0; v < kSize; ++v)
+    for (int u = 0; u < kSize; ++u)
+      distance[v * kSize + u] = float(cast(Eigen::Vector3d::Zero(), pixel_ray(u, v), &near));
+  gpu::Buffer buffer(context, distance.size() * 4);
+  buffer.upload(std::span<const float>(distance));
+  return buffer;
+}
+
 TEST_F(ForwardWarpTest, NearSurfaceWinsAndHolesFillFromTheBackground) {
   const CameraModel<double> pinhole = PinholeCamera<double>({kFocal, kFocal, kCentre, kCentre});
   // The target sits 0.3 m to the right: target_from_source moves points 0.3 m to the left.
@@ -38,13 +51,8 @@ TEST_F(ForwardWarpTest, NearSurfaceWinsAndHolesFillFromTheBackground) {
   const GpuCamera source = pack_camera(pinhole, kSize, kSize, Rigid3d());
   const GpuCamera target = pack_camera(pinhole, kSize, kSize, target_from_source);
 
-  std::vector<float> distance(kSize * kSize);
+  const gpu::Buffer distance_buffer = source_distance(context());
   bool near;
-  for (int v = 0; v < kSize; ++v)
-    for (int u = 0; u < kSize; ++u)
-      distance[v * kSize + u] = float(cast(Eigen::Vector3d::Zero(), pixel_ray(u, v), &near));
-  gpu::Buffer distance_buffer(context(), distance.size() * 4);
-  distance_buffer.upload(std::span<const float>(distance));
 
   // Without inpainting: the holes themselves.
   ForwardWarper raw(context(), source, target,
@@ -103,6 +111,99 @@ TEST_F(ForwardWarpTest, EquirectangularTargetWrapsAround) {
   EXPECT_NEAR(pano(128, 64), 2.0f, 1e-3f);  // straight ahead
   EXPECT_EQ(pano(0, 64), 0.0f);             // behind: nothing
   EXPECT_EQ(pano(128, 2), 0.0f);            // straight up: nothing
+}
+
+// Directional inpainting pass by pass on the CPU, as ALGORITHM.md §5 step 2 states it: the
+// reference for the GPU kernel, which runs up to 8 passes per dispatch in shared-memory tiles.
+struct Direction {
+  std::uint32_t codes;
+  float weight0, weight1;
+  std::uint32_t unused;
+};
+
+std::vector<std::uint32_t> inpaint_cpu(std::vector<std::uint32_t> bits,
+                                       const std::vector<Direction>& directions, int width,
+                                       int height, bool wrap, int passes) {
+  constexpr std::uint32_t kEmpty = 0xffffffffu;
+  static const int kOffsets[8][2] = {{1, 0}, {1, 1}, {0, 1}, {-1, 1},
+                                     {-1, 0}, {-1, -1}, {0, -1}, {1, -1}};
+  for (int pass = 0; pass < passes; ++pass) {
+    std::vector<std::uint32_t> next = bits;
+    for (int y = 0; y < height; ++y) {
+      for (int x = 0; x < width; ++x) {
+        const int i = y * width + x;
+        if (bits[i] != kEmpty) continue;
+        const Direction& d = directions[i];
+        float sum = 0, total = 0;
+        for (int k = 0; k < 2; ++k) {
+          const std::uint32_t code = (d.codes >> (8 * k)) & 0xffu;
+          if (code > 7) continue;
+          int nx = x + kOffsets[code][0];
+          const int ny = y + kOffsets[code][1];
+          if (wrap) nx = (nx + width) % width;
+          if (nx < 0 || ny < 0 || nx >= width || ny >= height) continue;
+          const std::uint32_t v = bits[ny * width + nx];
+          if (v == kEmpty) continue;
+          float value;
+          std::memcpy(&value, &v, 4);
+          const float w = k == 0 ? d.weight0 : d.weight1;
+          sum += w * value;
+          total += w;
+        }
+        if (total > 0) {
+          const float value = sum / total;
+          std::memcpy(&next[i], &value, 4);
+        }
+      }
+    }
+    bits.swap(next);
+  }
+  return bits;
+}
+
+// The tiled kernel against the CPU, pass counts across dispatch boundaries (8 passes each), on a
+// pinhole target and on a panorama that wraps around and is no multiple of the tile size.
+TEST_F(ForwardWarpTest, TiledInpaintingMatchesPassByPassInpainting) {
+  const CameraModel<double> pinhole = PinholeCamera<double>({kFocal, kFocal, kCentre, kCentre});
+  const Rigid3d target_from_source(Eigen::Quaterniond::Identity(), Eigen::Vector3d(-0.3, 0, 0));
+  const GpuCamera source = pack_camera(pinhole, kSize, kSize, Rigid3d());
+  const gpu::Buffer distance_buffer = source_distance(context());
+  const GpuCamera targets[2] = {pack_camera(pinhole, kSize, kSize, target_from_source),
+                                pack_equirectangular(200, 100, target_from_source)};
+  for (const GpuCamera& target : targets) {
+    const bool wrap = target.model == 4;
+    const int w = int(target.width), h = int(target.height);
+    ForwardWarper raw(context(), source, target, {.inpaint_passes = 0});
+    gpu::Sequence seq(context());
+    seq.begin();
+    raw.record(seq, distance_buffer);
+    seq.submit_and_wait();
+    const auto holes = raw.result().download<std::uint32_t>();
+    const auto directions = raw.directions().download<Direction>();
+    for (const int passes : {1, 5, 8, 9, 16, 23}) {
+      ForwardWarper warper(context(), source, target, {.inpaint_passes = passes});
+      seq.begin();
+      warper.record(seq, distance_buffer);
+      seq.submit_and_wait();
+      const auto gpu = warper.result().download<std::uint32_t>();
+      const auto cpu = inpaint_cpu(holes, directions, w, h, wrap, passes);
+      long differ = 0, filled = 0;
+      for (std::size_t i = 0; i < cpu.size(); ++i) {
+        filled += holes[i] == 0xffffffffu && cpu[i] != 0xffffffffu;
+        if ((gpu[i] == 0xffffffffu) != (cpu[i] == 0xffffffffu)) {
+          ++differ;
+          continue;
+        }
+        if (cpu[i] == 0xffffffffu) continue;
+        float a, b;
+        std::memcpy(&a, &gpu[i], 4);
+        std::memcpy(&b, &cpu[i], 4);
+        differ += std::abs(a - b) > 1e-5f * std::abs(b);  // fused multiply-adds may round apart
+      }
+      EXPECT_EQ(differ, 0) << (wrap ? "panorama" : "pinhole") << ", " << passes << " passes";
+      EXPECT_GT(filled, 0) << passes << " passes filled nothing: the check proves nothing";
+    }
+  }
 }
 
 }  // namespace

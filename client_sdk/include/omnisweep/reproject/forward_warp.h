@@ -77,15 +77,21 @@ class ForwardWarper {
   // The colour after record_colour, black where nothing could be filled.
   Rgb8Image download_colour() const;
 
+  // Per target pixel, its two background-side neighbours and their weights (struct Direction in
+  // shaders/include/inpaint.glsl), as the last record computed them: for checks of inpainting.
+  const gpu::Buffer& directions() const { return directions_; }
+
   int target_width() const { return int(target_.width); }
   int target_height() const { return int(target_.height); }
   const GpuCamera& target() const { return target_; }
 
  private:
+  // Records passes [first_pass, first_pass + passes), kPassesPerDispatch to a dispatch, from
+  // buffers[*current] on; *current ends on the buffer that holds the result.
   void record_inpaint(gpu::Sequence& seq, const gpu::Kernel& kernel, gpu::Buffer* buffers,
-                      int first_pass, int passes) const;
+                      int first_pass, int passes, int* current) const;
   int run_until_filled(gpu::Sequence& seq, const gpu::Kernel& kernel, gpu::Buffer* buffers,
-                       int max_passes, int batch, double* gpu_ms);
+                       int max_passes, int batch, double* gpu_ms, int* current);
 
   GpuCamera source_;
   GpuCamera target_;
@@ -95,8 +101,9 @@ class ForwardWarper {
   gpu::Buffer directions_;
   gpu::Buffer buffers_[2];  // ping-pong z-buffers
   gpu::Buffer filled_;      // per pass: did it fill anything
-  int passes_done_ = 0;     // distance passes of the last record (the result's parity)
-  int colour_passes_done_ = 0;
+  int result_ = 0;          // which of buffers_ holds the distance result
+  int colour_result_ = 0;   // which of colour_buffers_ holds the colour result
+  std::uint32_t tile_ = 32;  // inpainting tile side (inpaint_tile.glsl), to fit shared memory
   std::vector<gpu::Buffer> colour_buffers_;  // ping-pong colours (WarpOptions::colour only)
   gpu::Kernel warp_;
   gpu::Kernel directions_kernel_;
