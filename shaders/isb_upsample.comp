@@ -6,16 +6,23 @@
 // w_up = 1 - w_down. The coarse neighbours and spatial weights s_k depend on which child of its
 // coarse pixel (x, y) f is; coarse indices are clamped. The fine guide is updated with the same
 // weights. Each invocation reads and writes only its own fine pixel, so in place is safe.
+// With kWinnerTakesAll (the last pass of a cost volume's filter) the filtered costs are not
+// stored: each pixel's winner (wta.glsl) is written to `distance_map` instead, which saves the
+// winner-takes-all kernel a full read of the volume and this pass its write.
 layout(local_size_x_id = 100, local_size_y_id = 101, local_size_z_id = 102) in;
 
 #include "pixels.glsl"
 #include "isb_weights.glsl"
 #include "volume.glsl"
+#include "wta.glsl"
+
+layout(constant_id = 2) const bool kWinnerTakesAll = false;
 
 layout(std430, set = 0, binding = 0) buffer FineGuide { uint fine_guide[]; };
 layout(std430, set = 0, binding = 1) readonly buffer CoarseGuide { uint coarse_guide[]; };
 layout(std430, set = 0, binding = 2) buffer Fine { float v[]; } fine[kMaxChunks];
 layout(std430, set = 0, binding = 3) readonly buffer Coarse { float v[]; } coarse[kMaxChunks];
+layout(std430, set = 0, binding = 4) writeonly buffer Distance { float distance_map[]; };
 layout(push_constant) uniform Push {
   uint fine_width;
   uint fine_height;
@@ -23,6 +30,11 @@ layout(push_constant) uniform Push {
   uint coarse_height;
   float inv_two_sigma_sq;
   float w_down;
+  // kWinnerTakesAll only:
+  uint num_candidates;
+  float inv_d_min;
+  float inv_d_max;
+  float d_max;
 } push;
 
 void main() {
@@ -76,12 +88,28 @@ void main() {
   const float inv_total = 1.0 / total;
   const uint fine_plane = push.fine_width * push.fine_height;
   const uint coarse_plane = push.coarse_width * push.coarse_height;
+  Wta wta;
   for (uint chunk = 0u; chunk < kChunks; ++chunk) {
     for (uint k = 0u; k < kChannels; ++k) {
       float sum = w_up * fine[chunk].v[k * fine_plane + fine_index];
       for (int j = 0; j < count; ++j) sum += weight[j] * coarse[chunk].v[k * coarse_plane + index[j]];
-      fine[chunk].v[k * fine_plane + fine_index] = sum * inv_total;
+      const float filtered = sum * inv_total;
+      if (!kWinnerTakesAll) {
+        fine[chunk].v[k * fine_plane + fine_index] = filtered;
+        continue;
+      }
+      const uint i = chunk * kChannels + k;
+      if (i == 0u) {
+        wta = wta_start(filtered);
+      } else if (i < push.num_candidates) {
+        wta_step(wta, i, filtered);
+      }
     }
+  }
+  if (kWinnerTakesAll) {
+    distance_map[fine_index] =
+        wta_distance(wta, push.num_candidates, push.inv_d_min, push.inv_d_max, push.d_max);
+    return;  // the guide is not needed after the last pass
   }
   fine_guide[fine_index] = round_guide(guide_sum * inv_total);
 }

@@ -147,19 +147,30 @@ void DepthEstimator::record_reference(gpu::Sequence& seq, int slot, bool filter,
     seq.begin_stage("filter");
     seq.dispatch(guide_kernel_, {images_, guide_}, guide_push, groups);
     seq.barrier();
-    filter_.record(seq, guide_, volume_, {options_.sigma_i, options_.scaled_sigma_s()});
+    const IsbParams params{options_.sigma_i, options_.scaled_sigma_s()};
+    if (finish && filter_.levels() >= 2) {
+      // Winner takes all in the filter's last pass (the volume is not written back).
+      filter_.record_winner_take_all(
+          seq, guide_, volume_, params, distances_[slot].chunks()[0],
+          {std::uint32_t(options_.num_candidates), inv_d_min, inv_d_max,
+           float(options_.max_distance)});
+    } else {
+      filter_.record(seq, guide_, volume_, params);
+    }
   }
   if (!finish) {
     seq.end_stage();
     return;
   }
-  seq.begin_stage("wta");
-  seq.dispatch(
-      wta_kernel_, {volume_.binding(dummy_), distances_[slot].chunks()[0]},
-      WtaPush{std::uint32_t(width_), std::uint32_t(height_), std::uint32_t(options_.num_candidates),
-              inv_d_min, inv_d_max, float(options_.max_distance)},
-      groups);
-  seq.barrier();
+  if (!filter || filter_.levels() < 2) {
+    seq.begin_stage("wta");
+    seq.dispatch(wta_kernel_, {volume_.binding(dummy_), distances_[slot].chunks()[0]},
+                 WtaPush{std::uint32_t(width_), std::uint32_t(height_),
+                         std::uint32_t(options_.num_candidates), inv_d_min, inv_d_max,
+                         float(options_.max_distance)},
+                 groups);
+    seq.barrier();
+  }
   if (!options_.post_filter) {
     seq.end_stage();
     return;

@@ -101,6 +101,8 @@ TEST_F(DepthEstimatorTest, RawCostIsMinimalAtTheTrueCandidateOnTexturedPixels) {
   }
 }
 
+// estimate() takes the winner inside the filter's last pass (isb_upsample.comp with
+// kWinnerTakesAll); the CPU takes it from the volume the unfused filter leaves.
 TEST_F(DepthEstimatorTest, WinnerTakesAllEqualsCpu) {
   const auto scene = fixtures::render_depth_case(96);
   DepthOptions options;

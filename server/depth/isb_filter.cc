@@ -1,6 +1,7 @@
 #include "server/depth/isb_filter.h"
 
 #include <cmath>
+#include <stdexcept>
 
 namespace omnisweep::depth {
 namespace {
@@ -14,7 +15,15 @@ struct UpPush {
   std::uint32_t fine_width, fine_height, coarse_width, coarse_height;
   float inv_two_sigma_sq;
   float w_down;
+  WtaParams wta;  // read by the kWinnerTakesAll variant only
 };
+
+gpu::KernelLayout up_layout(VolumeLayout layout, bool winner_take_all) {
+  gpu::KernelLayout k =
+      volume_kernel_layout({1, 1, kMaxChunks, kMaxChunks, 1}, sizeof(UpPush), layout);
+  k.constants.push_back(gpu::SpecConstant::of(2, std::uint32_t(winner_take_all)));
+  return k;
+}
 
 }  // namespace
 
@@ -29,8 +38,8 @@ IsbFilter::IsbFilter(gpu::Context& context, int width, int height, VolumeLayout 
       dummy_(context, 16),
       down_(context, "isb_downsample",
             volume_kernel_layout({1, 1, kMaxChunks, kMaxChunks}, sizeof(DownPush), layout)),
-      up_(context, "isb_upsample",
-          volume_kernel_layout({1, 1, kMaxChunks, kMaxChunks}, sizeof(UpPush), layout)) {
+      up_(context, "isb_upsample", up_layout(layout, false)),
+      up_wta_(context, "isb_upsample", up_layout(layout, true)) {
   if (!context.info().buffer_array_indexing) {
     throw gpu::GpuError(context.info().name +
                         " lacks shaderStorageBufferArrayDynamicIndexing, which the filter needs");
@@ -53,6 +62,18 @@ std::uint64_t IsbFilter::bytes() const {
 
 void IsbFilter::record(gpu::Sequence& seq, gpu::Buffer& guide, CostVolume& volume,
                        const IsbParams& params) {
+  record(seq, guide, volume, params, nullptr, {});
+}
+
+void IsbFilter::record_winner_take_all(gpu::Sequence& seq, gpu::Buffer& guide,
+                                       CostVolume& volume, const IsbParams& params,
+                                       gpu::Buffer& distance, const WtaParams& wta) {
+  if (levels() < 2) throw std::invalid_argument("ISB filter: a fused winner needs 2 levels");
+  record(seq, guide, volume, params, &distance, wta);
+}
+
+void IsbFilter::record(gpu::Sequence& seq, gpu::Buffer& guide, CostVolume& volume,
+                       const IsbParams& params, gpu::Buffer* distance, const WtaParams& wta) {
   const float inv_two_sigma_sq = float(1.0 / (2.0 * params.sigma_i * params.sigma_i));
   auto guide_at = [&](int l) -> gpu::Buffer& { return l == 0 ? guide : guides_[l - 1]; };
   auto volume_at = [&](int l) -> CostVolume& { return l == 0 ? volume : volumes_[l - 1]; };
@@ -72,11 +93,12 @@ void IsbFilter::record(gpu::Sequence& seq, gpu::Buffer& guide, CostVolume& volum
     const auto [cw, ch] = sizes_[l + 1];
     const double scale = std::ldexp(1.0, l) - 0.5;
     const float w_down = float(std::exp(-scale * scale / (2.0 * params.sigma_s * params.sigma_s)));
-    seq.dispatch(up_,
+    const bool fused = distance && l == 0;
+    seq.dispatch(fused ? up_wta_ : up_,
                  {guide_at(l), guide_at(l + 1), volume_at(l).binding(dummy_),
-                  volume_at(l + 1).binding(dummy_)},
+                  volume_at(l + 1).binding(dummy_), fused ? *distance : dummy_},
                  UpPush{std::uint32_t(fw), std::uint32_t(fh), std::uint32_t(cw), std::uint32_t(ch),
-                        inv_two_sigma_sq, w_down},
+                        inv_two_sigma_sq, w_down, fused ? wta : WtaParams{}},
                  up_.groups_for(fw, fh));
     seq.barrier();
   }

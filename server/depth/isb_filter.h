@@ -18,6 +18,12 @@ struct IsbParams {
   double sigma_s = 25.0;  // spatial sigma in pixels of this resolution
 };
 
+// Winner takes all fused into the filter's last pass (wta.glsl): the candidates' spacing.
+struct WtaParams {
+  std::uint32_t num_candidates = 32;
+  float inv_d_min = 0, inv_d_max = 0, d_max = 0;
+};
+
 // L = floor(min(log2 W, log2 H)) - 1 levels including full resolution (at least 1).
 int isb_levels(int width, int height);
 
@@ -29,11 +35,20 @@ class IsbFilter {
   // Records the filter into `seq`: `volume` (full resolution) is filtered in place; `guide`
   // (packed 8-bit, 3 channels) is consumed: it ends up holding the smoothed guide.
   void record(gpu::Sequence& seq, gpu::Buffer& guide, CostVolume& volume, const IsbParams& params);
+  // The same, ending in winner-takes-all: the last pass writes each pixel's winning distance to
+  // `distance` (width x height floats) instead of the filtered costs, so `volume` is left holding
+  // intermediate values and `guide` is not updated by that pass. Needs at least 2 levels.
+  void record_winner_take_all(gpu::Sequence& seq, gpu::Buffer& guide, CostVolume& volume,
+                              const IsbParams& params, gpu::Buffer& distance,
+                              const WtaParams& wta);
 
   int levels() const { return int(sizes_.size()); }
   std::uint64_t bytes() const;
 
  private:
+  void record(gpu::Sequence& seq, gpu::Buffer& guide, CostVolume& volume, const IsbParams& params,
+              gpu::Buffer* distance, const WtaParams& wta);
+
   gpu::Context* context_;
   VolumeLayout layout_;
   std::vector<std::pair<int, int>> sizes_;  // per level
@@ -42,6 +57,7 @@ class IsbFilter {
   gpu::Buffer dummy_;
   gpu::Kernel down_;
   gpu::Kernel up_;
+  gpu::Kernel up_wta_;  // isb_upsample with kWinnerTakesAll
 };
 
 }  // namespace omnisweep::depth
