@@ -1,5 +1,8 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
+#ifdef VOLUME_F16
+#extension GL_EXT_shader_16bit_storage : require
+#endif
 // Inter-scale bilateral filter, down pass (ALGORITHM.md §4): coarse pixel (x, y) gathers the
 // 3x3 neighbourhood of fine pixel (2x, 2y) (indices clamped) with spatial weights 1 / 0.5 / 0.25
 // (centre / edge / corner), each off-centre weight times exp(-g^2 / (2 sigma_I^2)) + 0.01. The
@@ -12,8 +15,8 @@ layout(local_size_x_id = 100, local_size_y_id = 101, local_size_z_id = 102) in;
 
 layout(std430, set = 0, binding = 0) readonly buffer FineGuide { uint fine_guide[]; };
 layout(std430, set = 0, binding = 1) writeonly buffer CoarseGuide { uint coarse_guide[]; };
-layout(std430, set = 0, binding = 2) readonly buffer Fine { float v[]; } fine[kMaxChunks];
-layout(std430, set = 0, binding = 3) writeonly buffer Coarse { float v[]; } coarse[kMaxChunks];
+layout(std430, set = 0, binding = 2) readonly buffer Fine { VOLUME_T v[]; } fine[kMaxChunks];
+layout(std430, set = 0, binding = 3) writeonly buffer Coarse { VOLUME_T v[]; } coarse[kMaxChunks];
 layout(push_constant) uniform Push {
   uint fine_width;
   uint fine_height;
@@ -50,8 +53,9 @@ void main() {
   for (uint chunk = 0u; chunk < kChunks; ++chunk) {
     for (uint k = 0u; k < kChannels; ++k) {
       float sum = 0.0;
-      for (int j = 0; j < 9; ++j) sum += weight[j] * fine[chunk].v[k * fine_plane + index[j]];
-      coarse[chunk].v[k * coarse_plane + out_index] = sum * inv_total;
+      for (int j = 0; j < 9; ++j)
+        sum += weight[j] * float(fine[chunk].v[k * fine_plane + index[j]]);
+      coarse[chunk].v[k * coarse_plane + out_index] = VOLUME_T(sum * inv_total);
     }
   }
 }

@@ -1,5 +1,8 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
+#ifdef VOLUME_F16
+#extension GL_EXT_shader_16bit_storage : require
+#endif
 // Inter-scale bilateral filter, up pass (ALGORITHM.md §4), in place on the fine level l: fine
 // pixel f becomes (w_up f + sum_k w_k coarse_k) / (w_up + sum_k w_k), with
 // w_k = w_down s_k (exp(-g_k^2 / (2 sigma_I^2)) + 0.01), w_down = exp(-(2^l - 0.5)^2 / (2 sigma_s^2)),
@@ -20,8 +23,8 @@ layout(constant_id = 2) const bool kWinnerTakesAll = false;
 
 layout(std430, set = 0, binding = 0) buffer FineGuide { uint fine_guide[]; };
 layout(std430, set = 0, binding = 1) readonly buffer CoarseGuide { uint coarse_guide[]; };
-layout(std430, set = 0, binding = 2) buffer Fine { float v[]; } fine[kMaxChunks];
-layout(std430, set = 0, binding = 3) readonly buffer Coarse { float v[]; } coarse[kMaxChunks];
+layout(std430, set = 0, binding = 2) buffer Fine { VOLUME_T v[]; } fine[kMaxChunks];
+layout(std430, set = 0, binding = 3) readonly buffer Coarse { VOLUME_T v[]; } coarse[kMaxChunks];
 layout(std430, set = 0, binding = 4) writeonly buffer Distance { float distance_map[]; };
 layout(push_constant) uniform Push {
   uint fine_width;
@@ -91,11 +94,12 @@ void main() {
   Wta wta;
   for (uint chunk = 0u; chunk < kChunks; ++chunk) {
     for (uint k = 0u; k < kChannels; ++k) {
-      float sum = w_up * fine[chunk].v[k * fine_plane + fine_index];
-      for (int j = 0; j < count; ++j) sum += weight[j] * coarse[chunk].v[k * coarse_plane + index[j]];
+      float sum = w_up * float(fine[chunk].v[k * fine_plane + fine_index]);
+      for (int j = 0; j < count; ++j)
+        sum += weight[j] * float(coarse[chunk].v[k * coarse_plane + index[j]]);
       const float filtered = sum * inv_total;
       if (!kWinnerTakesAll) {
-        fine[chunk].v[k * fine_plane + fine_index] = filtered;
+        fine[chunk].v[k * fine_plane + fine_index] = VOLUME_T(filtered);
         continue;
       }
       const uint i = chunk * kChannels + k;

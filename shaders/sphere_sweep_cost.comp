@@ -1,5 +1,8 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
+#ifdef VOLUME_F16
+#extension GL_EXT_shader_16bit_storage : require
+#endif
 // Sphere sweep and matching cost (ALGORITHM.md §3 steps 1 and 3): for each reference pixel and
 // candidate distance d_i (uniform in inverse distance), sample the selected camera bilinearly
 // at the projection of ray * d_i (taps outside the image read 0) and store the L1 colour
@@ -14,7 +17,7 @@ layout(local_size_x_id = 100, local_size_y_id = 101, local_size_z_id = 102) in;
 layout(std430, set = 0, binding = 0) readonly buffer Cameras { Camera cameras[]; };
 layout(std430, set = 0, binding = 1) readonly buffer Images { uint images[]; };  // RGBA8, camera-major
 layout(std430, set = 0, binding = 2) readonly buffer Selection { int selection[]; };
-layout(std430, set = 0, binding = 3) writeonly buffer Volume { float v[]; } volume[kMaxChunks];
+layout(std430, set = 0, binding = 3) writeonly buffer Volume { VOLUME_T v[]; } volume[kMaxChunks];
 layout(push_constant) uniform Push {
   uint width;
   uint height;
@@ -60,6 +63,6 @@ void main() {
       const vec3 d = abs(rgb - reference_rgb);
       cost = min(d.x + d.y + d.z, 500.0);
     }
-    volume[i / kChannels].v[(i % kChannels) * push.width * push.height + pixel] = cost;
+    volume[i / kChannels].v[(i % kChannels) * push.width * push.height + pixel] = VOLUME_T(cost);
   }
 }

@@ -1,5 +1,7 @@
 #include "server/depth/cost_volume.h"
 
+#include <Eigen/Core>
+
 #include <algorithm>
 
 namespace omnisweep::depth {
@@ -13,9 +15,15 @@ gpu::KernelLayout volume_kernel_layout(std::vector<std::uint32_t> bindings,
                         gpu::SpecConstant::of(1, std::uint32_t(layout.chunks))}};
 }
 
-VolumeLayout plan_volume(const gpu::Context& context, int width, int height, int channels) {
+std::string volume_shader(const std::string& shader, VolumeLayout layout) {
+  return layout.half ? shader + "_f16" : shader;
+}
+
+VolumeLayout plan_volume(const gpu::Context& context, int width, int height, int channels,
+                         bool half) {
+  half = half && context.info().storage_16bit;
   const std::uint64_t limit = context.info().max_storage_buffer_range;
-  const std::uint64_t pixel_bytes = std::uint64_t(width) * height * sizeof(float);
+  const std::uint64_t pixel_bytes = std::uint64_t(width) * height * (half ? 2 : 4);
   int per_chunk = std::min(channels, kMaxChannelsPerChunk);
   while (per_chunk > 1 && pixel_bytes * per_chunk > limit) per_chunk = (per_chunk + 1) / 2;
   const int chunks = (channels + per_chunk - 1) / per_chunk;
@@ -26,14 +34,14 @@ VolumeLayout plan_volume(const gpu::Context& context, int width, int height, int
                         " MiB (maxStorageBufferRange of " + context.info().name +
                         "); lower the matching resolution or the number of candidates");
   }
-  return {per_chunk, chunks};
+  return {per_chunk, chunks, half};
 }
 
 CostVolume::CostVolume(gpu::Context& context, int width, int height, VolumeLayout layout)
     : width_(width), height_(height), layout_(layout) {
   for (int c = 0; c < layout.chunks; ++c) {
-    chunks_.emplace_back(context,
-                         std::uint64_t(width) * height * layout.channels_per_chunk * sizeof(float));
+    chunks_.emplace_back(context, std::uint64_t(width) * height * layout.channels_per_chunk *
+                                      layout.value_bytes());
   }
 }
 
@@ -54,7 +62,13 @@ std::vector<float> CostVolume::download(int channels) const {
   const int k = layout_.channels_per_chunk;
   std::vector<float> out(pixels * channels);
   for (int c = 0; c < layout_.chunks; ++c) {
-    const std::vector<float> chunk = chunks_[c].download<float>();
+    std::vector<float> chunk;
+    if (layout_.half) {
+      const std::vector<Eigen::half> halves = chunks_[c].download<Eigen::half>();
+      chunk.assign(halves.begin(), halves.end());
+    } else {
+      chunk = chunks_[c].download<float>();
+    }
     for (std::size_t p = 0; p < pixels; ++p) {
       for (int j = 0; j < k && c * k + j < channels; ++j)
         out[p * channels + c * k + j] = chunk[j * pixels + p];
@@ -72,7 +86,12 @@ void CostVolume::upload(const std::vector<float>& values, int channels) {
       for (int j = 0; j < k && c * k + j < channels; ++j)
         chunk[j * pixels + p] = values[p * channels + c * k + j];
     }
-    chunks_[c].upload(std::span<const float>(chunk));
+    if (layout_.half) {
+      const std::vector<Eigen::half> halves(chunk.begin(), chunk.end());
+      chunks_[c].upload(std::span<const Eigen::half>(halves));
+    } else {
+      chunks_[c].upload(std::span<const float>(chunk));
+    }
   }
 }
 

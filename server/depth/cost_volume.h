@@ -4,6 +4,8 @@
 // the ISB filter takes.
 #pragma once
 
+#include <cstdint>
+#include <string>
 #include <vector>
 
 #include "omnisweep/gpu/buffer.h"
@@ -18,8 +20,14 @@ inline constexpr int kMaxChannelsPerChunk = 32;
 struct VolumeLayout {
   int channels_per_chunk = 1;
   int chunks = 1;
+  bool half = false;  // values stored as 16-bit floats (the *_f16 kernels)
   int channels() const { return channels_per_chunk * chunks; }  // candidates plus padding
+  std::uint64_t value_bytes() const { return half ? 2 : 4; }
 };
+
+// The kernel of `shader` that stores volumes with `layout`: `shader`, or its 16-bit build
+// (shaders/CMakeLists.txt).
+std::string volume_shader(const std::string& shader, VolumeLayout layout);
 
 // The layout of a kernel that binds chunk arrays: `bindings` as in gpu::KernelLayout, 8x8
 // workgroups, and the volume's channels per chunk and chunk count as specialization constants
@@ -27,9 +35,11 @@ struct VolumeLayout {
 gpu::KernelLayout volume_kernel_layout(std::vector<std::uint32_t> bindings,
                                        std::uint32_t push_bytes, VolumeLayout layout);
 
-// The layout for `channels` channels at width x height on this device; throws GpuError when even
-// one channel per chunk needs more than kMaxChunks chunks.
-VolumeLayout plan_volume(const gpu::Context& context, int width, int height, int channels);
+// The layout for `channels` channels at width x height on this device, 16-bit where `half` and
+// the device stores 16-bit floats; throws GpuError when even one channel per chunk needs more
+// than kMaxChunks chunks.
+VolumeLayout plan_volume(const gpu::Context& context, int width, int height, int channels,
+                         bool half = false);
 
 class CostVolume {
  public:
@@ -43,7 +53,8 @@ class CostVolume {
   // The chunk array as bound by the kernels: unused slots point at `dummy`.
   std::vector<const gpu::Buffer*> binding(const gpu::Buffer& dummy) const;
 
-  // Host copies in the layout candidate-major per pixel: out[p * channels + i], i < channels.
+  // Host copies in the layout candidate-major per pixel: out[p * channels + i], i < channels
+  // (16-bit volumes are converted, rounding to nearest on upload).
   std::vector<float> download(int channels) const;
   void upload(const std::vector<float>& values, int channels);
 

@@ -16,6 +16,10 @@ struct DepthOptions {
   int matching_width = 1024;
   int matching_height = 1024;
   bool post_filter = true;  // step 6; off only to inspect the raw winner-takes-all
+  // Store the cost volume as 16-bit floats where the device can (storageBuffer16BitAccess): half
+  // the memory and traffic of the sweep and the filter, arithmetic still in 32 bits
+  // (docs/performance.md has what it changes). false: 32-bit floats everywhere.
+  bool half_costs = true;
 
   void check(int num_cameras) const;
   // sigma_s at the matching resolution (ALGORITHM.md §3 step 4).

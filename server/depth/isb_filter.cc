@@ -36,10 +36,10 @@ IsbFilter::IsbFilter(gpu::Context& context, int width, int height, VolumeLayout 
     : context_(&context),
       layout_(layout),
       dummy_(context, 16),
-      down_(context, "isb_downsample",
+      down_(context, volume_shader("isb_downsample", layout),
             volume_kernel_layout({1, 1, kMaxChunks, kMaxChunks}, sizeof(DownPush), layout)),
-      up_(context, "isb_upsample", up_layout(layout, false)),
-      up_wta_(context, "isb_upsample", up_layout(layout, true)) {
+      up_(context, volume_shader("isb_upsample", layout), up_layout(layout, false)),
+      up_wta_(context, volume_shader("isb_upsample", layout), up_layout(layout, true)) {
   if (!context.info().buffer_array_indexing) {
     throw gpu::GpuError(context.info().name +
                         " lacks shaderStorageBufferArrayDynamicIndexing, which the filter needs");

@@ -35,6 +35,9 @@ inline void add_depth_flags(CLI::App& app, depth::DepthOptions& options, std::st
          "Width and height images are matched at (default 1024 1024)")
       ->expected(2)
       ->check(CLI::Range(8, 8192));
+  app.add_flag_function(
+      "--float32-costs", [&options](std::int64_t) { options.half_costs = false; },
+      "Store the cost volume as 32-bit floats (default: 16-bit where the device supports it)");
   app.add_option(
       "--vk-device", device,
       "Vulkan device: index or name substring (default: OMNISWEEP_VK_DEVICE, else the best)");

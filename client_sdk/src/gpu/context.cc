@@ -83,6 +83,12 @@ DeviceInfo describe(const vk::raii::PhysicalDevice& device, int index) {
                     device.getQueueFamilyProperties()[family].timestampValidBits > 0;
   info.timestamp_period_ns = props.limits.timestampPeriod;
   info.buffer_array_indexing = device.getFeatures().shaderStorageBufferArrayDynamicIndexing;
+  if (props.apiVersion >= VK_API_VERSION_1_1) {
+    const auto features =
+        device.getFeatures2<vk::PhysicalDeviceFeatures2, vk::PhysicalDevice16BitStorageFeatures>();
+    info.storage_16bit =
+        features.get<vk::PhysicalDevice16BitStorageFeatures>().storageBuffer16BitAccess;
+  }
   info.max_storage_buffers_per_stage = props.limits.maxPerStageDescriptorStorageBuffers;
   return info;
 }
@@ -242,10 +248,14 @@ Context::Context(const ContextOptions& options)
 
   const float priority = 1.0f;
   const vk::DeviceQueueCreateInfo queue_info({}, queue_family_, 1, &priority);
-  vk::PhysicalDeviceFeatures features;
-  features.shaderStorageBufferArrayDynamicIndexing = info_.buffer_array_indexing;
-  device_ =
-      vk::raii::Device(physical_device_, vk::DeviceCreateInfo({}, queue_info, {}, {}, &features));
+  vk::PhysicalDevice16BitStorageFeatures storage_16bit;
+  storage_16bit.storageBuffer16BitAccess = info_.storage_16bit;
+  vk::PhysicalDeviceFeatures2 features;
+  features.features.shaderStorageBufferArrayDynamicIndexing = info_.buffer_array_indexing;
+  if (info_.storage_16bit) features.pNext = &storage_16bit;
+  vk::DeviceCreateInfo device_info({}, queue_info, {}, {}, nullptr);
+  device_info.pNext = &features;
+  device_ = vk::raii::Device(physical_device_, device_info);
   queue_ = vk::raii::Queue(device_, queue_family_, 0);
   command_pool_ = vk::raii::CommandPool(
       device_,

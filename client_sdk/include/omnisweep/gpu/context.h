@@ -77,6 +77,9 @@ struct DeviceInfo {
   bool buffer_array_indexing = false;
   std::uint32_t max_storage_buffers_per_stage = 0;
   double timestamp_period_ns = 0;
+  // storageBuffer16BitAccess (Vulkan 1.1): kernels may store 16-bit floats in buffers (the *_f16
+  // volume kernels); enabled on the device whenever it is present.
+  bool storage_16bit = false;
 };
 
 // The Vulkan devices present, in the loader's order; throws GpuError without a loader.
