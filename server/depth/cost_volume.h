@@ -49,6 +49,7 @@ class CostVolume {
   int height() const { return height_; }
   const VolumeLayout& layout() const { return layout_; }
   std::vector<gpu::Buffer>& chunks() { return chunks_; }
+  const std::vector<gpu::Buffer>& chunks() const { return chunks_; }
   std::uint64_t bytes() const;
   // The chunk array as bound by the kernels: unused slots point at `dummy`.
   std::vector<const gpu::Buffer*> binding(const gpu::Buffer& dummy) const;

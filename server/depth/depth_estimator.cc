@@ -184,11 +184,19 @@ void DepthEstimator::record_reference(gpu::Sequence& seq, int slot, bool filter,
   seq.end_stage();
 }
 
+void DepthEstimator::record(gpu::Sequence& seq) {
+  for (std::size_t slot = 0; slot < options_.references.size(); ++slot)
+    record_reference(seq, int(slot), true, true);
+}
+
+const gpu::Buffer& DepthEstimator::distance_buffer(int slot) const {
+  return distances_.at(std::size_t(slot)).chunks()[0];
+}
+
 DepthResult DepthEstimator::estimate(const std::vector<const Rgb8Image*>& images) {
   upload_images(images);
   sequence_.begin();
-  for (std::size_t slot = 0; slot < options_.references.size(); ++slot)
-    record_reference(sequence_, int(slot), true, true);
+  record(sequence_);
   sequence_.submit_and_wait();
   DepthResult result;
   for (auto& d : distances_) {

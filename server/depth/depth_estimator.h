@@ -36,6 +36,14 @@ class DepthEstimator {
   // Images: one RGB image per camera at the matching resolution.
   DepthResult estimate(const std::vector<const Rgb8Image*>& images);
 
+  // The same without leaving the GPU, for a caller that records what follows into the same
+  // submission (the stitcher): upload the images, record depth into `seq` (between its begin()
+  // and submit), and the distance map of reference slot `slot` (matching width x height floats,
+  // metres) is in distance_buffer(slot) once `seq` has run.
+  void upload(const std::vector<const Rgb8Image*>& images) { upload_images(images); }
+  void record(gpu::Sequence& seq);
+  const gpu::Buffer& distance_buffer(int slot) const;
+
   // Stage by stage, for tests and benchmarks: the camera selection map of reference slot `slot`
   // (-1 = none), and the cost volume of the last uploaded images, raw or ISB-filtered, as
   // out[p * N + i].

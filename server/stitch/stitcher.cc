@@ -150,50 +150,56 @@ std::vector<FloatImage> Stitcher::weights() const {
   return out;
 }
 
-Panorama Stitcher::stitch(const std::vector<const FloatImage*>& distance,
-                          const std::vector<const Rgb8Image*>& colour) {
-  if (distance.size() != references_.size() || colour.size() != references_.size()) {
-    throw std::invalid_argument(
-        "stitch: expected one distance map and one colour image per reference");
-  }
-  const RigCamera& first = matching_rig_.cameras[references_[0]];
+void Stitcher::check_colour(const std::vector<const Rgb8Image*>& colour) const {
+  if (colour.size() != references_.size())
+    throw std::invalid_argument("stitch: expected one colour image per reference");
   const RigCamera& first_colour = colour_rig_.cameras[references_[0]];
-  const std::uint64_t matching = area(first), colour_area = area(first_colour);
-  std::vector<std::uint32_t> packed(colour_area);
   for (std::size_t k = 0; k < references_.size(); ++k) {
-    if (distance[k]->width() != first.width || distance[k]->height() != first.height) {
-      throw std::invalid_argument("stitch: distance map of reference " +
-                                  std::to_string(references_[k]) +
-                                  " is not at the matching resolution");
-    }
     if (colour[k]->width() != first_colour.width || colour[k]->height() != first_colour.height ||
         colour[k]->channels() != 3) {
       throw std::invalid_argument("stitch: colour image of reference " +
                                   std::to_string(references_[k]) +
                                   " is not RGB at the colour resolution");
     }
-    distances_[k].upload(distance[k]->data(), matching * 4);
+  }
+}
+
+void Stitcher::upload_colour(const std::vector<const Rgb8Image*>& colour) {
+  check_colour(colour);
+  const std::uint64_t colour_area = area(colour_rig_.cameras[references_[0]]);
+  std::vector<std::uint32_t> packed(colour_area);
+  for (std::size_t k = 0; k < references_.size(); ++k) {
     reproject::pack_rgba8(*colour[k], packed);
     colour_.upload(packed.data(), colour_area * 4, k * colour_area * 4);
   }
-  sequence_.begin();
-  sequence_.begin_stage("warp");
-  for (std::size_t k = 0; k < references_.size(); ++k) {  // the unwarped maps, side by side
-    sequence_.copy(distances_[k], original_, matching * 4, 0, k * matching * 4);
+}
+
+void Stitcher::record(gpu::Sequence& seq, const std::vector<const gpu::Buffer*>& distance) {
+  const std::uint64_t matching = area(matching_rig_.cameras[references_[0]]);
+  if (distance.size() != references_.size())
+    throw std::invalid_argument("stitch: expected one distance map per reference");
+  for (const gpu::Buffer* d : distance) {
+    if (d->size() < matching * 4)
+      throw std::invalid_argument("stitch: a distance buffer holds fewer than the matching pixels");
   }
-  for (std::size_t k = 0; k < references_.size(); ++k) warpers_[k].record(sequence_, distances_[k]);
+  seq.begin_stage("warp");
+  for (std::size_t k = 0; k < references_.size(); ++k)  // the unwarped maps, side by side
+    seq.copy(*distance[k], original_, matching * 4, 0, k * matching * 4);
+  for (std::size_t k = 0; k < references_.size(); ++k) warpers_[k].record(seq, *distance[k]);
   for (std::size_t k = 0; k < references_.size(); ++k) {  // side by side for the merge
-    sequence_.copy(warpers_[k].result(), warped_, matching * 4, 0, k * matching * 4);
+    seq.copy(warpers_[k].result(), warped_, matching * 4, 0, k * matching * 4);
   }
-  sequence_.barrier();
-  sequence_.begin_stage("merge");
-  sequence_.dispatch(
+  seq.barrier();
+  seq.begin_stage("merge");
+  seq.dispatch(
       merge_, {cameras_, weights_, warped_, original_, colour_, out_colour_, out_distance_},
       MergePush{std::uint32_t(options_.panorama_width), std::uint32_t(options_.panorama_height),
                 std::uint32_t(references_.size())},
       merge_.groups_for(options_.panorama_width, options_.panorama_height));
-  sequence_.submit_and_wait();
+  seq.end_stage();
+}
 
+Panorama Stitcher::download() const {
   Panorama out{Rgb8Image(options_.panorama_width, options_.panorama_height, 3),
                FloatImage(options_.panorama_width, options_.panorama_height, 1),
                {}};
@@ -204,6 +210,33 @@ Panorama Stitcher::stitch(const std::vector<const FloatImage*>& distance,
     for (int c = 0; c < 3; ++c)
       out.rgb.data()[3 * p + c] = std::uint8_t((rgba[p] >> (8 * c)) & 255);
   }
+  return out;
+}
+
+Panorama Stitcher::stitch(const std::vector<const FloatImage*>& distance,
+                          const std::vector<const Rgb8Image*>& colour) {
+  if (distance.size() != references_.size() || colour.size() != references_.size()) {
+    throw std::invalid_argument(
+        "stitch: expected one distance map and one colour image per reference");
+  }
+  const RigCamera& first = matching_rig_.cameras[references_[0]];
+  for (std::size_t k = 0; k < references_.size(); ++k) {
+    if (distance[k]->width() != first.width || distance[k]->height() != first.height) {
+      throw std::invalid_argument("stitch: distance map of reference " +
+                                  std::to_string(references_[k]) +
+                                  " is not at the matching resolution");
+    }
+  }
+  upload_colour(colour);
+  std::vector<const gpu::Buffer*> maps;
+  for (std::size_t k = 0; k < references_.size(); ++k) {
+    distances_[k].upload(distance[k]->data(), area(first) * 4);
+    maps.push_back(&distances_[k]);
+  }
+  sequence_.begin();
+  record(sequence_, maps);
+  sequence_.submit_and_wait();
+  Panorama out = download();
   out.stage_ms = sequence_.stage_ms();
   return out;
 }

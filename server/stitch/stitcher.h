@@ -44,6 +44,14 @@ class Stitcher {
   Panorama stitch(const std::vector<const FloatImage*>& distance,
                   const std::vector<const Rgb8Image*>& colour);
 
+  // The same on distance maps already on the GPU (DepthEstimator::distance_buffer), in a
+  // submission the caller owns: upload_colour, record into `seq` after what writes `distance`,
+  // submit, then download. With the depth estimator recorded first, a frame is one submission
+  // from the camera images to the panorama: no host round trip between them.
+  void upload_colour(const std::vector<const Rgb8Image*>& colour);
+  void record(gpu::Sequence& seq, const std::vector<const gpu::Buffer*>& distance);
+  Panorama download() const;
+
   const Eigen::Vector3d& viewpoint() const { return viewpoint_; }
   // The blending weights per reference (panorama size), as computed on the GPU.
   std::vector<FloatImage> weights() const;
@@ -51,6 +59,7 @@ class Stitcher {
 
  private:
   void compute_weights(const std::vector<std::optional<Gray8Image>>& usable);
+  void check_colour(const std::vector<const Rgb8Image*>& colour) const;
 
   gpu::Context* context_;
   StitchOptions options_;

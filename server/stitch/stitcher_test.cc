@@ -4,6 +4,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
+#include "omnisweep/gpu/command_log.h"
 #include "omnisweep/image/image_io.h"
 #include "server/depth/depth_estimator.h"
 #include "server/stitch/blend_weights.h"
@@ -107,6 +110,28 @@ TEST_F(StitcherTest, PanoramaMatchesTheGroundTruth) {
   EXPECT_LT(m.bad_0_4, 0.01);
   EXPECT_GT(m.psnr, 31.5);
   EXPECT_GT(m.ssim, 0.96);
+
+  // The same frame as one submission, depth never leaving the GPU: the same panorama, bit for bit.
+  gpu::CommandLog log;
+  context().set_command_log(&log);
+  estimator.upload(image_pointers);
+  stitcher.upload_colour({&frame.cameras[2].rgb, &frame.cameras[3].rgb});
+  gpu::Sequence seq(context());
+  seq.begin();
+  estimator.record(seq);
+  stitcher.record(seq, {&estimator.distance_buffer(0), &estimator.distance_buffer(1)});
+  seq.submit_and_wait();
+  const Panorama resident = stitcher.download();
+  context().set_command_log(nullptr);
+  // One submission from the images to the panorama (staged transfers before and after it wait
+  // for the GPU too, where memory is not mapped).
+  EXPECT_EQ(log.totals().round_trips - log.totals(gpu::CommandLog::kTransferStage).round_trips, 1u);
+  EXPECT_EQ(log.totals().download_bytes, pano.distance.size() * 8)
+      << "only the panorama comes back";
+  EXPECT_TRUE(std::equal(resident.rgb.pixels().begin(), resident.rgb.pixels().end(),
+                         pano.rgb.pixels().begin()));
+  EXPECT_TRUE(std::equal(resident.distance.pixels().begin(), resident.distance.pixels().end(),
+                         pano.distance.pixels().begin()));
 }
 
 }  // namespace

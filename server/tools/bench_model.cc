@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "omnisweep/gpu/command_log.h"
+#include "omnisweep/gpu/sequence.h"
 #include "server/depth/depth_estimator.h"
 #include "server/depth/depth_inputs.h"
 #include "server/stitch/stitcher.h"
@@ -72,12 +73,19 @@ void model_section(gpu::Context& context, int resolution, bool json) {
 
   // One frame as the server runs it, from the camera images on the host to the panorama on the
   // host, recorded.
+  // The frame as omnisweep-process runs it: one submission, depth staying on the GPU.
+  const auto matching = depth::matching_images(images, options);
+  const auto colour = depth::reference_colour_images(images, full_rig, options.references);
+  gpu::Sequence sequence(context);
   gpu::CommandLog log;
   context.set_command_log(&log);
-  const auto matching = depth::matching_images(images, options);
-  const depth::DepthResult result = estimator.estimate(depth::pointers(matching));
-  const auto colour = depth::reference_colour_images(images, full_rig, options.references);
-  stitcher.stitch(depth::pointers(result.distance), depth::pointers(colour));
+  estimator.upload(depth::pointers(matching));
+  stitcher.upload_colour(depth::pointers(colour));
+  sequence.begin();
+  estimator.record(sequence);
+  stitcher.record(sequence, {&estimator.distance_buffer(0), &estimator.distance_buffer(1)});
+  sequence.submit_and_wait();
+  stitcher.download();
   context.set_command_log(nullptr);
 
   std::vector<std::string> stages = log.stages();

@@ -92,6 +92,10 @@ int run(int argc, char** argv) {
     stitch_options.viewpoint = Eigen::Vector3d(viewpoint[0], viewpoint[1], viewpoint[2]);
   stitch::Stitcher stitcher(context, matching_rig, colour_rig, options.references, masks,
                             stitch_options);
+  gpu::Sequence sequence(context);
+  std::vector<const gpu::Buffer*> distance_maps;
+  for (std::size_t slot = 0; slot < options.references.size(); ++slot)
+    distance_maps.push_back(&estimator.distance_buffer(int(slot)));
   fs::create_directories(output_dir);
   if (!json) {
     std::fprintf(stderr, "device: %s; GPU memory: depth %.1f MiB, stitching %.1f MiB\n",
@@ -112,11 +116,17 @@ int run(int argc, char** argv) {
         const auto start = Clock::now();
         std::vector<Rgb8Image> full = depth::rgb8_images(frame);
         const auto images = depth::matching_images(full, options);
-        const depth::DepthResult result = estimator.estimate(depth::pointers(images));
         const std::vector<Rgb8Image> colour =
             depth::reference_colour_images(full, colour_rig, options.references);
-        const stitch::Panorama pano =
-            stitcher.stitch(depth::pointers(result.distance), depth::pointers(colour));
+        // One submission from the images to the panorama: depth stays on the GPU.
+        estimator.upload(depth::pointers(images));
+        stitcher.upload_colour(depth::pointers(colour));
+        sequence.begin();
+        estimator.record(sequence);
+        stitcher.record(sequence, distance_maps);
+        sequence.submit_and_wait();
+        stitch::Panorama pano = stitcher.download();
+        pano.stage_ms = sequence.stage_ms();
         const double ms = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
 
         const FloatImage inverse = reciprocal_or_zero(pano.distance);
@@ -125,8 +135,7 @@ int run(int argc, char** argv) {
         write_png(fs::path(output_dir) / ("inv_distance_" + frame.name + ".png"),
                   colorize_inverse_distance(inverse, float(1.0 / options.min_distance)));
 
-        std::vector<std::pair<std::string, double>> stages = result.stage_ms;
-        stages.insert(stages.end(), pano.stage_ms.begin(), pano.stage_ms.end());
+        const std::vector<std::pair<std::string, double>>& stages = pano.stage_ms;
         std::optional<stitch::PanoramaMetrics> metrics;
         if (evaluate) {
           if (!frame.ground_truth) {
