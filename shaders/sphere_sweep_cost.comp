@@ -52,14 +52,18 @@ void main() {
   const bool matching = selected >= 0 && unproject(cameras[push.reference], vec2(p), ray);
   const vec3 reference_rgb = unpack_rgb(images[push.reference * push.width * push.height + pixel]);
   const float step = (push.inv_d_max - push.inv_d_min) / float(push.num_candidates - 1u);
+  // What does not change with the candidate, once per pixel: the selected camera and the ray in
+  // its axes (the point at distance d is d * rotated + translation).
+  const Camera c = cameras[max(selected, 0)];
+  const vec3 rotated = vec3(dot(c.row0.xyz, ray), dot(c.row1.xyz, ray), dot(c.row2.xyz, ray));
+  const vec3 translation = vec3(c.row0.w, c.row1.w, c.row2.w);
   for (uint i = 0u; i < kChunks * kChannels; ++i) {
     float cost = 0.0;
     if (matching && i < push.num_candidates) {
       const float distance_i = 1.0 / (push.inv_d_min + step * float(i));
       vec2 uv;
       vec3 rgb = vec3(0.0);
-      const Camera c = cameras[selected];
-      if (project(c, to_camera(c, ray * distance_i), uv)) rgb = bilinear(uint(selected), uv);
+      if (project(c, distance_i * rotated + translation, uv)) rgb = bilinear(uint(selected), uv);
       const vec3 d = abs(rgb - reference_rgb);
       cost = min(d.x + d.y + d.z, 500.0);
     }
