@@ -105,7 +105,8 @@ std::vector<float> per_slice(const std::vector<float>& volume, int width, int he
 // 1. GPU time per stage, both references, at each resolution.
 void stage_section(gpu::Context& context, const std::vector<int>& resolutions, int iterations,
                    bool json) {
-  const std::vector<std::string> stages = {"sweep_cost", "filter", "wta", "post_filter"};
+  // Winner-takes-all runs inside the filter's last pass (isb_upsample.comp), so "filter" has it.
+  const std::vector<std::string> stages = {"sweep_cost", "filter", "post_filter"};
   std::map<int, std::map<std::string, double>> ms;
   std::map<int, double> memory_mib;
   for (int size : resolutions) {
