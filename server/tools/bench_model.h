@@ -5,7 +5,7 @@
 
 namespace omnisweep::tools {
 
-// Runs one frame of the depth estimator and the stitcher at their defaults (or with matching
+// Runs frames of the depth estimator and the stitcher at their defaults (or with matching
 // `resolution` and a panorama of 2 x `resolution` x `resolution`), records what they submit
 // (gpu::CommandLog) and prints, per stage and for the frame, dispatches, barriers, host round
 // trips, bound bytes and the predicted time on named devices.
