@@ -16,6 +16,7 @@
 
 #include "omnisweep/gpu/command_log.h"
 #include "omnisweep/gpu/sequence.h"
+#include "omnisweep/reproject/reprojector.h"
 #include "server/depth/depth_estimator.h"
 #include "server/depth/depth_inputs.h"
 #include "server/stitch/stitcher.h"
@@ -48,6 +49,74 @@ double predicted_ms(const gpu::CommandTotals& t, const DeviceProfile& device) {
   return memory_s * 1e3 + overhead_us * 1e-3;
 }
 
+// Prints the log's stages and its total as a table (or JSON rows of `kind`).
+void print_log(const gpu::CommandLog& log, const char* kind, const std::string& title,
+               const std::string& frame_name, bool json) {
+  std::vector<std::string> stages = log.stages();
+  stages.push_back("");  // the frame
+  if (!json) {
+    std::printf("\n%s (%s)\n", title.c_str(), frame_name.c_str());
+    std::printf("%-14s %10s %9s %11s %12s %12s", "stage", "dispatches", "barriers",
+                "round trips", "bound MB", "host MB");
+    for (const auto& d : kProfiles) std::printf(" %12.12s", d.name);
+    std::printf("   (predicted ms)\n");
+  }
+  for (const std::string& stage : stages) {
+    const gpu::CommandTotals t = log.totals(stage);
+    const std::string name = stage.empty() ? "frame" : stage;
+    if (json) {
+      std::printf(
+          "{\"kind\": \"%s\", \"frame\": \"%s\", \"stage\": \"%s\", \"dispatches\": %llu, "
+          "\"barriers\": %llu, \"round_trips\": %llu, \"bound_bytes\": %llu, \"upload_bytes\": "
+          "%llu, \"download_bytes\": %llu, \"invocations\": %llu",
+          kind, frame_name.c_str(), name.c_str(), static_cast<unsigned long long>(t.dispatches),
+          static_cast<unsigned long long>(t.barriers),
+          static_cast<unsigned long long>(t.round_trips),
+          static_cast<unsigned long long>(t.bound_bytes),
+          static_cast<unsigned long long>(t.upload_bytes),
+          static_cast<unsigned long long>(t.download_bytes),
+          static_cast<unsigned long long>(t.invocations));
+      std::printf(", \"predicted_ms\": {");
+      for (const auto& d : kProfiles)
+        std::printf("%s\"%s\": %.3f", &d == kProfiles ? "" : ", ", d.name, predicted_ms(t, d));
+      std::printf("}}\n");
+      continue;
+    }
+    std::printf("%-14s %10llu %9llu %11llu %12.1f %12.1f", name.c_str(),
+                static_cast<unsigned long long>(t.dispatches),
+                static_cast<unsigned long long>(t.barriers),
+                static_cast<unsigned long long>(t.round_trips), double(t.bound_bytes) * 1e-6,
+                double(t.upload_bytes + t.download_bytes) * 1e-6);
+    for (const auto& d : kProfiles) std::printf(" %12.2f", predicted_ms(t, d));
+    std::printf("\n");
+  }
+}
+
+// One VR frame on the client: a stereo pair of 1440x1600 pinhole views (90 degrees across), the
+// eyes 6.4 cm apart and their midpoint 5 cm from the panorama's centre, rendered by the SDK's
+// Reprojector from a 2048x1024 RGB-D panorama (the second such frame; the first builds the
+// warpers), views downloaded.
+void vr_frame(gpu::Context& context, bool json) {
+  const synthetic::SyntheticRig rig(synthetic::SyntheticRigOptions{.image_size = 64});
+  const synthetic::RenderedImage pano = rig.render_panorama_at(0, rig.viewpoint(), 2048, 1024);
+  reproject::Reprojector reprojector(context);
+  reprojector.set_panorama(pano.rgb, reciprocal_or_zero(pano.inverse_distance), rig.viewpoint());
+  const PinholeCamera<double> eye = reproject::pinhole_for_fov(1440, 1600, 90);
+  gpu::CommandLog log;
+  for (int frame = 0; frame < 2; ++frame) {
+    log.clear();
+    context.set_command_log(&log);
+    for (const double side : {-0.032, 0.032}) {
+      const Rigid3d pose(Eigen::Quaterniond::Identity(),
+                         rig.viewpoint() + Eigen::Vector3d(0.05 + side, 0, 0));
+      reprojector.render_pinhole(pose, eye, 1440, 1600);
+    }
+    context.set_command_log(nullptr);
+  }
+  print_log(log, "model_vr", "Client cost model: one stereo VR frame as the Reprojector records it",
+            "2 x 1440x1600 pinhole, 6.4 cm apart, 5 cm from the centre", json);
+}
+
 }  // namespace
 
 void model_section(gpu::Context& context, int resolution, bool json) {
@@ -71,8 +140,6 @@ void model_section(gpu::Context& context, int resolution, bool json) {
   std::vector<Rgb8Image> images;
   for (auto& camera : frame.cameras) images.push_back(std::move(camera.rgb));
 
-  // One frame as the server runs it, from the camera images on the host to the panorama on the
-  // host, recorded.
   // The frame as omnisweep-process runs it: one submission, depth staying on the GPU.
   const auto matching = depth::matching_images(images, options);
   const auto colour = depth::reference_colour_images(images, full_rig, options.references);
@@ -93,52 +160,19 @@ void model_section(gpu::Context& context, int resolution, bool json) {
     context.set_command_log(nullptr);
   }
 
-  std::vector<std::string> stages = log.stages();
-  stages.push_back("");  // the frame
+
   const std::string frame_name = std::to_string(options.matching_width) + "^2 matching, " +
                                  std::to_string(options.num_candidates) + " candidates, " +
                                  std::to_string(stitch_options.panorama_width) + "x" +
                                  std::to_string(stitch_options.panorama_height) + " panorama";
   if (!json) {
-    std::printf("\nFrame cost model: a frame (%s) as the estimator and stitcher record it\n",
-                frame_name.c_str());
-    std::printf("assumed: bound bytes once at %.0f %% of peak bandwidth; %.0f us per dispatch, "
+    std::printf("\nassumed: bound bytes once at %.0f %% of peak bandwidth; %.0f us per dispatch, "
                 "%.0f us per barrier, %.0f us per host round trip; arithmetic not modelled\n",
                 100 * kBandwidthEfficiency, kDispatchUs, kBarrierUs, kRoundTripUs);
-    std::printf("%-14s %10s %9s %11s %12s %12s", "stage", "dispatches", "barriers",
-                "round trips", "bound MB", "host MB");
-    for (const auto& d : kProfiles) std::printf(" %12.12s", d.name);
-    std::printf("   (predicted ms)\n");
   }
-  for (const std::string& stage : stages) {
-    const gpu::CommandTotals t = log.totals(stage);
-    const std::string name = stage.empty() ? "frame" : stage;
-    if (json) {
-      std::printf(
-          "{\"kind\": \"model\", \"frame\": \"%s\", \"stage\": \"%s\", \"dispatches\": %llu, "
-          "\"barriers\": %llu, \"round_trips\": %llu, \"bound_bytes\": %llu, \"upload_bytes\": "
-          "%llu, \"download_bytes\": %llu, \"invocations\": %llu",
-          frame_name.c_str(), name.c_str(), static_cast<unsigned long long>(t.dispatches),
-          static_cast<unsigned long long>(t.barriers),
-          static_cast<unsigned long long>(t.round_trips),
-          static_cast<unsigned long long>(t.bound_bytes),
-          static_cast<unsigned long long>(t.upload_bytes),
-          static_cast<unsigned long long>(t.download_bytes),
-          static_cast<unsigned long long>(t.invocations));
-      std::printf(", \"predicted_ms\": {");
-      for (const auto& d : kProfiles)
-        std::printf("%s\"%s\": %.3f", &d == kProfiles ? "" : ", ", d.name, predicted_ms(t, d));
-      std::printf("}}\n");
-      continue;
-    }
-    std::printf("%-14s %10llu %9llu %11llu %12.1f %12.1f", name.c_str(),
-                static_cast<unsigned long long>(t.dispatches),
-                static_cast<unsigned long long>(t.barriers),
-                static_cast<unsigned long long>(t.round_trips), double(t.bound_bytes) * 1e-6,
-                double(t.upload_bytes + t.download_bytes) * 1e-6);
-    for (const auto& d : kProfiles) std::printf(" %12.2f", predicted_ms(t, d));
-    std::printf("\n");
-  }
+  print_log(log, "model", "Frame cost model: a frame as the estimator and stitcher record it",
+            frame_name, json);
+  vr_frame(context, json);
 }
 
 }  // namespace omnisweep::tools
