@@ -109,6 +109,41 @@ TEST_F(ClientTest, WaitingForTheFirstFrameIsNotStalled) {
   statuses.join();
 }
 
+// A running server slower than stall_after_s per frame (a CPU device) is not stalled between its
+// frames while its status keeps coming; once the status stops too, the stream is stalled.
+TEST_F(ClientTest, SlowServerIsNotStalledBetweenFrames) {
+  dds::StreamPublisher server(participant_options());
+  client::SubscriberOptions options{.participant = participant_options(), .stall_after_s = 0.5};
+  client::RgbdSubscriber subscriber(options);
+  msg::ServerStatus status;
+  status.state("running");
+  msg::StageTime depth;
+  depth.stage("depth");
+  depth.ms(3000.0f);  // 3 s per frame
+  status.stage_ms({depth});
+  std::atomic<bool> statuses_on{true}, done{false};
+  std::thread statuses([&] {
+    while (!done) {
+      if (statuses_on) server.publish(status);
+      std::this_thread::sleep_for(std::chrono::milliseconds(200));
+    }
+  });
+  ASSERT_TRUE(reaches(subscriber, ConnectionState::kWaiting, 10));
+  msg::RgbdFrame frame;  // payloads do not matter here: a frame arrived
+  frame.sequence_number(1);
+  for (int i = 0; i < 100 && subscriber.stats().frames_received == 0; ++i) {
+    server.publish(frame);
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+  ASSERT_GT(subscriber.stats().frames_received, 0u);
+  std::this_thread::sleep_for(std::chrono::milliseconds(1500));  // 3 x stall_after_s, < 7 s
+  EXPECT_EQ(subscriber.state(), ConnectionState::kReceiving);
+  statuses_on = false;  // the server froze: no status either
+  EXPECT_TRUE(reaches(subscriber, ConnectionState::kStalled, 5));
+  done = true;
+  statuses.join();
+}
+
 TEST_F(ClientTest, ViewWritesThePanoramaItsDistanceAndANovelView) {
   BackgroundProcess server(server_command(), dir_.path() / "server.log");
   const fs::path out = dir_.path() / "view";

@@ -49,6 +49,14 @@ RgbdSubscriber::RgbdSubscriber(const SubscriberOptions& options, FrameCallback o
   dds::StreamCallbacks callbacks;
   callbacks.frame = [this](const msg::RgbdFrame& m) { this->on_frame(m); };
   callbacks.description = [this](const msg::StreamDescription& m) { on_description(m); };
+  callbacks.status = [this](const msg::ServerStatus& m) {
+    double slowest_ms = 0;
+    for (const auto& stage : m.stage_ms()) slowest_ms = std::max(slowest_ms, double(stage.ms()));
+    const std::lock_guard lock(mutex_);
+    last_status_time_ = std::chrono::steady_clock::now();
+    server_running_ = m.state() == "running";
+    server_frame_s_ = slowest_ms * 1e-3;
+  };
   subscriber_ = std::make_unique<dds::StreamSubscriber>(options.participant, options.profile,
                                                         std::move(callbacks));
 }
@@ -135,9 +143,16 @@ int RgbdSubscriber::matched_servers() const { return subscriber_->matched_server
 
 ConnectionState RgbdSubscriber::state() const {
   const std::lock_guard lock(mutex_);
-  const auto since = std::chrono::steady_clock::now() - last_frame_time_;
-  if (stats_.frames_received > 0 && since < std::chrono::duration<double>(options_.stall_after_s)) {
-    return ConnectionState::kReceiving;
+  const auto now = std::chrono::steady_clock::now();
+  const std::chrono::duration<double> since = now - last_frame_time_,
+                                      since_status = now - last_status_time_;
+  if (stats_.frames_received > 0) {
+    double allowed = options_.stall_after_s;
+    // A running server still reporting (status comes once a second) whose slowest stage takes
+    // longer than that: a frame is due within about one frame time (the stages overlap).
+    if (server_running_ && since_status.count() < options_.stall_after_s)
+      allowed = std::max(allowed, 2.0 * server_frame_s_ + 1.0);
+    if (since.count() < allowed) return ConnectionState::kReceiving;
   }
   if (subscriber_->matched_servers() == 0) return ConnectionState::kNoServer;
   return stats_.frames_received > 0 ? ConnectionState::kStalled : ConnectionState::kWaiting;

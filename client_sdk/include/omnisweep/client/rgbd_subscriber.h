@@ -66,8 +66,9 @@ enum class ConnectionState {
   kNoServer,   // no server's frame writer is matched
   kWaiting,    // a server is matched and no frame has arrived yet (it may still be computing
                // its first: status() says what it is doing)
-  kReceiving,  // a frame arrived within SubscriberOptions::stall_after_s
-  kStalled,    // frames arrived, then none for stall_after_s while a server is still matched
+  kReceiving,  // a frame arrived within SubscriberOptions::stall_after_s, or within twice the
+               // per-frame time of a running server that keeps sending status (a slow device)
+  kStalled,    // frames arrived, then stopped, while a server is still matched
 };
 const char* to_string(ConnectionState state);
 
@@ -122,6 +123,11 @@ class RgbdSubscriber {
   std::uint64_t frame_count_ = 0;
   std::optional<std::uint64_t> last_sequence_;
   std::chrono::steady_clock::time_point last_frame_time_;
+  // When the last status arrived, whether it said "running", and the slowest stage's time in it:
+  // a server slower than stall_after_s per frame is not stalled while it reports working.
+  std::chrono::steady_clock::time_point last_status_time_;
+  bool server_running_ = false;
+  double server_frame_s_ = 0;
   std::unique_ptr<dds::StreamSubscriber> subscriber_;  // last: its callbacks use the above
 };
 
