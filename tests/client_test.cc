@@ -66,6 +66,21 @@ TEST_F(ClientTest, SubscriberReportsReceivingStalledAndNoServer) {
   EXPECT_EQ(subscriber.stats().decode_errors, 0u);
 }
 
+// A server status message with `state` and per-stage milliseconds, as a test's own server sends.
+msg::ServerStatus status_of(const std::string& state,
+                            const std::vector<std::pair<std::string, float>>& stages) {
+  msg::ServerStatus status;
+  status.state(state);
+  std::vector<msg::StageTime> times;
+  for (const auto& [name, ms] : stages) {
+    times.emplace_back();
+    times.back().stage(name);
+    times.back().ms(ms);
+  }
+  status.stage_ms(times);
+  return status;
+}
+
 // A server still computing its first frame (slow on a CPU device): matched, publishing status,
 // no frame yet. The SDK says "waiting", not "stalled"; the viewer and the subscriber say so and
 // show what the server's status says it is doing.
@@ -73,14 +88,7 @@ TEST_F(ClientTest, WaitingForTheFirstFrameIsNotStalled) {
   dds::StreamPublisher server(participant_options());
   client::SubscriberOptions options{.participant = participant_options(), .stall_after_s = 0.5};
   client::RgbdSubscriber subscriber(options);
-  msg::ServerStatus status;
-  status.state("starting");
-  msg::StageTime capture, depth;
-  capture.stage("capture");
-  capture.ms(1234.0f);
-  depth.stage("depth");
-  depth.ms(0.0f);
-  status.stage_ms({capture, depth});
+  msg::ServerStatus status = status_of("starting", {{"capture", 1234.0f}, {"depth", 0.0f}});
   std::atomic<bool> done{false};
   std::thread statuses([&] {  // once every 200 ms, as a server does once a second
     while (!done) {
@@ -115,12 +123,7 @@ TEST_F(ClientTest, SlowServerIsNotStalledBetweenFrames) {
   dds::StreamPublisher server(participant_options());
   client::SubscriberOptions options{.participant = participant_options(), .stall_after_s = 0.5};
   client::RgbdSubscriber subscriber(options);
-  msg::ServerStatus status;
-  status.state("running");
-  msg::StageTime depth;
-  depth.stage("depth");
-  depth.ms(3000.0f);  // 3 s per frame
-  status.stage_ms({depth});
+  msg::ServerStatus status = status_of("running", {{"depth", 3000.0f}});  // 3 s a frame
   std::atomic<bool> statuses_on{true}, done{false};
   std::thread statuses([&] {
     while (!done) {
