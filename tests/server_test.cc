@@ -133,11 +133,7 @@ TEST_F(ServerTest, StatusArrivesOnceASecond) {
 // A source that can wait (here a dataset) is read only when depth has room: with capture far
 // faster than depth (--fps 100), every frame read is published and no stage drops one.
 TEST_F(ServerTest, SourceThatCanWaitIsReadOnlyWhenDepthHasRoom) {
-  std::string command = server_command();
-  const std::size_t fps = command.find(" --fps 5");
-  ASSERT_NE(fps, std::string::npos) << command;
-  command.replace(fps, 8, " --fps 100");
-  BackgroundProcess server(command, dir_.path() / "server.log");
+  BackgroundProcess server(server_command("", 100), dir_.path() / "server.log");
   std::string out;
   ASSERT_EQ(run_command(subscribe_command(" --statuses 4 --timeout 30"), &out), 0)
       << out << server.log();

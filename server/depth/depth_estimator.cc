@@ -137,6 +137,10 @@ void DepthEstimator::record_reference(gpu::Sequence& seq, int slot, bool filter,
   const GuidePush guide_push{std::uint32_t(width_), std::uint32_t(height_),
                              std::uint32_t(reference)};
 
+  // Winner takes all in the filter's last pass (the volume is not written back) wherever there
+  // is a filter with a last upsample; otherwise its own kernel reads the volume.
+  const bool fused_winner = filter && finish && filter_.levels() >= 2;
+
   seq.begin_stage("sweep_cost");
   seq.dispatch(sweep_kernel_, {cameras_[slot], images_, selections_[slot], volume_.binding(dummy_)},
                SweepPush{std::uint32_t(width_), std::uint32_t(height_), std::uint32_t(reference),
@@ -148,8 +152,7 @@ void DepthEstimator::record_reference(gpu::Sequence& seq, int slot, bool filter,
     seq.dispatch(guide_kernel_, {images_, guide_}, guide_push, groups);
     seq.barrier();
     const IsbParams params{options_.sigma_i, options_.scaled_sigma_s()};
-    if (finish && filter_.levels() >= 2) {
-      // Winner takes all in the filter's last pass (the volume is not written back).
+    if (fused_winner) {
       filter_.record_winner_take_all(
           seq, guide_, volume_, params, distances_[slot].chunks()[0],
           {std::uint32_t(options_.num_candidates), inv_d_min, inv_d_max,
@@ -162,7 +165,7 @@ void DepthEstimator::record_reference(gpu::Sequence& seq, int slot, bool filter,
     seq.end_stage();
     return;
   }
-  if (!filter || filter_.levels() < 2) {
+  if (!fused_winner) {
     seq.begin_stage("wta");
     seq.dispatch(wta_kernel_, {volume_.binding(dummy_), distances_[slot].chunks()[0]},
                  WtaPush{std::uint32_t(width_), std::uint32_t(height_),

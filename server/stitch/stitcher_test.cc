@@ -9,6 +9,7 @@
 #include "omnisweep/gpu/command_log.h"
 #include "omnisweep/image/image_io.h"
 #include "server/depth/depth_estimator.h"
+#include "server/pipeline/gpu_frame.h"
 #include "server/stitch/blend_weights.h"
 #include "server/stitch/panorama_metrics.h"
 #include "server/synthetic/synthetic_rig.h"
@@ -114,14 +115,9 @@ TEST_F(StitcherTest, PanoramaMatchesTheGroundTruth) {
   // The same frame as one submission, depth never leaving the GPU: the same panorama, bit for bit.
   gpu::CommandLog log;
   context().set_command_log(&log);
-  estimator.upload(image_pointers);
-  stitcher.upload_colour({&frame.cameras[2].rgb, &frame.cameras[3].rgb});
-  gpu::Sequence seq(context());
-  seq.begin();
-  estimator.record(seq);
-  stitcher.record(seq, {&estimator.distance_buffer(0), &estimator.distance_buffer(1)});
-  seq.submit_and_wait();
-  const Panorama resident = stitcher.download();
+  pipeline::GpuFrame gpu_frame(context(), estimator, stitcher);
+  const Panorama resident =
+      gpu_frame.run(image_pointers, {&frame.cameras[2].rgb, &frame.cameras[3].rgb});
   context().set_command_log(nullptr);
   // One submission from the images to the panorama (staged transfers before and after it wait
   // for the GPU too, where memory is not mapped).

@@ -15,10 +15,10 @@
 #include <vector>
 
 #include "omnisweep/gpu/command_log.h"
-#include "omnisweep/gpu/sequence.h"
 #include "omnisweep/reproject/reprojector.h"
 #include "server/depth/depth_estimator.h"
 #include "server/depth/depth_inputs.h"
+#include "server/pipeline/gpu_frame.h"
 #include "server/stitch/stitcher.h"
 #include "server/synthetic/synthetic_rig.h"
 
@@ -103,7 +103,7 @@ void vr_frame(gpu::Context& context, bool json) {
   reprojector.set_panorama(pano.rgb, reciprocal_or_zero(pano.inverse_distance), rig.viewpoint());
   const PinholeCamera<double> eye = reproject::pinhole_for_fov(1440, 1600, 90);
   gpu::CommandLog log;
-  for (int frame = 0; frame < 2; ++frame) {
+  for (int run = 0; run < 2; ++run) {
     log.clear();
     context.set_command_log(&log);
     for (const double side : {-0.032, 0.032}) {
@@ -145,21 +145,14 @@ void model_section(gpu::Context& context, int resolution, bool json) {
   const auto colour = depth::reference_colour_images(images, full_rig, options.references);
   // The second frame is recorded: the first also computes what is kept for a calibration and
   // pose (the inpainting directions), which a stream does once.
-  gpu::Sequence sequence(context);
+  pipeline::GpuFrame gpu_frame(context, estimator, stitcher);
   gpu::CommandLog log;
-  for (int frame = 0; frame < 2; ++frame) {
+  for (int run = 0; run < 2; ++run) {
     log.clear();
     context.set_command_log(&log);
-    estimator.upload(depth::pointers(matching));
-    stitcher.upload_colour(depth::pointers(colour));
-    sequence.begin();
-    estimator.record(sequence);
-    stitcher.record(sequence, {&estimator.distance_buffer(0), &estimator.distance_buffer(1)});
-    sequence.submit_and_wait();
-    stitcher.download();
+    gpu_frame.run(depth::pointers(matching), depth::pointers(colour));
     context.set_command_log(nullptr);
   }
-
 
   const std::string frame_name = std::to_string(options.matching_width) + "^2 matching, " +
                                  std::to_string(options.num_candidates) + " candidates, " +

@@ -15,6 +15,7 @@
 #include "omnisweep/image/image_io.h"
 #include "server/depth/depth_estimator.h"
 #include "server/depth/depth_inputs.h"
+#include "server/pipeline/gpu_frame.h"
 #include "server/stitch/panorama_metrics.h"
 #include "server/stitch/stitcher.h"
 #include "server/tools/depth_flags.h"
@@ -92,10 +93,7 @@ int run(int argc, char** argv) {
     stitch_options.viewpoint = Eigen::Vector3d(viewpoint[0], viewpoint[1], viewpoint[2]);
   stitch::Stitcher stitcher(context, matching_rig, colour_rig, options.references, masks,
                             stitch_options);
-  gpu::Sequence sequence(context);
-  std::vector<const gpu::Buffer*> distance_maps;
-  for (std::size_t slot = 0; slot < options.references.size(); ++slot)
-    distance_maps.push_back(&estimator.distance_buffer(int(slot)));
+  pipeline::GpuFrame gpu_frame(context, estimator, stitcher);
   fs::create_directories(output_dir);
   if (!json) {
     std::fprintf(stderr, "device: %s; GPU memory: depth %.1f MiB, stitching %.1f MiB\n",
@@ -119,14 +117,8 @@ int run(int argc, char** argv) {
         const std::vector<Rgb8Image> colour =
             depth::reference_colour_images(full, colour_rig, options.references);
         // One submission from the images to the panorama: depth stays on the GPU.
-        estimator.upload(depth::pointers(images));
-        stitcher.upload_colour(depth::pointers(colour));
-        sequence.begin();
-        estimator.record(sequence);
-        stitcher.record(sequence, distance_maps);
-        sequence.submit_and_wait();
-        stitch::Panorama pano = stitcher.download();
-        pano.stage_ms = sequence.stage_ms();
+        const stitch::Panorama pano =
+            gpu_frame.run(depth::pointers(images), depth::pointers(colour));
         const double ms = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
 
         const FloatImage inverse = reciprocal_or_zero(pano.distance);

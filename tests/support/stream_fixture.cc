@@ -9,7 +9,7 @@ namespace omnisweep::testing {
 namespace {
 
 const char* const kSmall =
-    " --matching-resolution 128 128 --panorama-resolution 256 128 --candidates 16 --fps 5"
+    " --matching-resolution 128 128 --panorama-resolution 256 128 --candidates 16"
     " --log-interval 0";
 
 }  // namespace
@@ -26,9 +26,9 @@ void StreamTest::SetUp() {
   topic_prefix_ = "test" + std::to_string(getpid()) + "/" + info->name();
 }
 
-std::string StreamTest::server_command(const std::string& extra) const {
-  return tool_command("server",
-                      " --source dataset:" + (dir_.path() / "data").string() + kSmall + extra);
+std::string StreamTest::server_command(const std::string& extra, double fps) const {
+  return tool_command("server", " --source dataset:" + (dir_.path() / "data").string() + kSmall +
+                                    " --fps " + std::to_string(fps) + extra);
 }
 
 std::string StreamTest::tool_command(const std::string& tool, const std::string& extra) const {

@@ -16,8 +16,9 @@ class StreamTest : public ::testing::Test {
  protected:
   void SetUp() override;
 
-  // omnisweep-server on the dataset at test settings (128^2 matching, 256x128 panoramas, 5 fps).
-  std::string server_command(const std::string& extra = "") const;
+  // omnisweep-server on the dataset at test settings (128^2 matching, 256x128 panoramas, `fps`
+  // frames per second, 5 unless a test needs capture faster than depth).
+  std::string server_command(const std::string& extra = "", double fps = 5) const;
   // build/bin/omnisweep-<tool> with this test's domain and topic prefix, then `extra`.
   std::string tool_command(const std::string& tool, const std::string& extra) const;
   // The same domain and prefix for an in-process participant.

@@ -69,10 +69,7 @@ void Buffer::upload(const void* data, std::size_t bytes, std::size_t offset) {
   if (CommandLog* log = context_->command_log()) log->add_transfer(bytes, true);
   if (mapped_) {  // host writes to mapped device memory are fast, even uncached (write-combined)
     std::memcpy(static_cast<char*>(mapped_) + offset, data, bytes);
-    if (!memory_.coherent) {
-      context_->device().flushMappedMemoryRanges(
-          vk::MappedMemoryRange(*device_memory_, 0, VK_WHOLE_SIZE));
-    }
+    flush_mapped(*context_, *device_memory_, memory_.coherent);
     return;
   }
   const auto staging = context_->staging().upload(bytes);
@@ -88,10 +85,7 @@ void Buffer::download(void* data, std::size_t bytes, std::size_t offset) const {
   if (bytes == 0) return;
   if (CommandLog* log = context_->command_log()) log->add_transfer(bytes, false);
   if (mapped_ && memory_.cached) {  // reads of uncached device memory go through staging instead
-    if (!memory_.coherent) {
-      context_->device().invalidateMappedMemoryRanges(
-          vk::MappedMemoryRange(*device_memory_, 0, VK_WHOLE_SIZE));
-    }
+    invalidate_mapped(*context_, *device_memory_, memory_.coherent);
     std::memcpy(data, static_cast<const char*>(mapped_) + offset, bytes);
     return;
   }

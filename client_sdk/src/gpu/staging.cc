@@ -1,8 +1,16 @@
 #include "staging.h"
 
-#include <algorithm>
-
 namespace omnisweep::gpu {
+
+void flush_mapped(const Context& context, vk::DeviceMemory memory, bool coherent) {
+  if (!coherent)
+    context.device().flushMappedMemoryRanges(vk::MappedMemoryRange(memory, 0, VK_WHOLE_SIZE));
+}
+
+void invalidate_mapped(const Context& context, vk::DeviceMemory memory, bool coherent) {
+  if (!coherent)
+    context.device().invalidateMappedMemoryRanges(vk::MappedMemoryRange(memory, 0, VK_WHOLE_SIZE));
+}
 
 StagingPool::StagingPool(const Context& context) : context_(&context) {}
 
@@ -48,18 +56,6 @@ StagingPool::Lease StagingPool::lease(Slot& slot, MemoryUse use, std::size_t byt
   }
   return Lease(std::move(lock), *context_, *slot.buffer, *slot.memory, slot.mapped,
                slot.coherent);
-}
-
-void StagingPool::Lease::flush() const {
-  if (!coherent_)
-    context_->device().flushMappedMemoryRanges(vk::MappedMemoryRange(memory_, 0, VK_WHOLE_SIZE));
-}
-
-void StagingPool::Lease::invalidate() const {
-  if (!coherent_) {
-    context_->device().invalidateMappedMemoryRanges(
-        vk::MappedMemoryRange(memory_, 0, VK_WHOLE_SIZE));
-  }
 }
 
 }  // namespace omnisweep::gpu

@@ -11,6 +11,11 @@
 
 namespace omnisweep::gpu {
 
+// Makes host writes to mapped `memory` visible to the device (flush) and device writes visible to
+// the host (invalidate); nothing to do where the memory is coherent.
+void flush_mapped(const Context& context, vk::DeviceMemory memory, bool coherent);
+void invalidate_mapped(const Context& context, vk::DeviceMemory memory, bool coherent);
+
 class StagingPool {
  public:
   explicit StagingPool(const Context& context);
@@ -23,8 +28,8 @@ class StagingPool {
     vk::Buffer buffer() const { return buffer_; }
     // Makes host writes visible to the device (upload) / device writes to the host (readback);
     // no-ops on coherent memory.
-    void flush() const;
-    void invalidate() const;
+    void flush() const { flush_mapped(*context_, memory_, coherent_); }
+    void invalidate() const { invalidate_mapped(*context_, memory_, coherent_); }
 
    private:
     friend class StagingPool;

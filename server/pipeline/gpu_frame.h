@@ -1,0 +1,32 @@
+// One frame as one GPU submission: the camera images go up, depth (DepthEstimator) and stitching
+// (Stitcher) are recorded into the same command buffer so the depth maps never leave the GPU, the
+// host waits once, and the panorama comes down. omnisweep-process and the cost model run frames
+// this way.
+#pragma once
+
+#include <vector>
+
+#include "omnisweep/gpu/sequence.h"
+#include "server/depth/depth_estimator.h"
+#include "server/stitch/stitcher.h"
+
+namespace omnisweep::pipeline {
+
+class GpuFrame {
+ public:
+  // Both must outlive this, and be made for the same references.
+  GpuFrame(gpu::Context& context, depth::DepthEstimator& estimator, stitch::Stitcher& stitcher);
+
+  // `matching`: every camera at the matching resolution; `colour`: the references at the colour
+  // resolution. The panorama's stage_ms holds the GPU time of every stage, depth's included.
+  stitch::Panorama run(const std::vector<const Rgb8Image*>& matching,
+                       const std::vector<const Rgb8Image*>& colour);
+
+ private:
+  depth::DepthEstimator* estimator_;
+  stitch::Stitcher* stitcher_;
+  gpu::Sequence sequence_;
+  std::vector<const gpu::Buffer*> distance_maps_;  // the estimator's, one per reference
+};
+
+}  // namespace omnisweep::pipeline
