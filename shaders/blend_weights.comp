@@ -43,9 +43,9 @@ void main() {
     const vec3 dir_c = vec3(dot(c.row0.xyz, dir), dot(c.row1.xyz, dir), dot(c.row2.xyz, dir));
     const vec3 t_c = vec3(c.row0.w, c.row1.w, c.row2.w);
     vec2 uv, near_px, far_px;
-    const bool valid_dir = project(c, dir_c, uv);
-    const bool valid_near = project(c, push.d_min * dir_c - t_c, near_px);
-    const bool valid_far = project(c, push.d_max * dir_c - t_c, far_px);
+    const bool valid_dir = project_source(c, dir_c, uv);
+    const bool valid_near = project_source(c, push.d_min * dir_c - t_c, near_px);
+    const bool valid_far = project_source(c, push.d_max * dir_c - t_c, far_px);
     const vec2 lo = vec2(0.1), hi = vec2(c.width, c.height) - 1.1;
     near_px = clamp(near_px, lo, hi);
     far_px = clamp(far_px, lo, hi);

@@ -34,12 +34,12 @@ void main() {
   int best = -1;
   float best_displacement = 1.0;  // must exceed one pixel
   vec3 ray;
-  if (usable(push.reference, vec2(p)) && unproject(cameras[push.reference], vec2(p), ray)) {
+  if (usable(push.reference, vec2(p)) && unproject_source(cameras[push.reference], vec2(p), ray)) {
     for (uint c = 0u; c < push.num_cameras; ++c) {
       if (c == push.reference) continue;
       vec2 near_uv, far_uv;
-      if (!project(cameras[c], to_camera(cameras[c], ray * push.d_min), near_uv)) continue;
-      if (!project(cameras[c], to_camera(cameras[c], ray * push.d_max), far_uv)) continue;
+      if (!project_source(cameras[c], to_camera(cameras[c], ray * push.d_min), near_uv)) continue;
+      if (!project_source(cameras[c], to_camera(cameras[c], ray * push.d_max), far_uv)) continue;
       if (!usable(c, near_uv) || !usable(c, far_uv)) continue;
       const float displacement = distance(near_uv, far_uv);
       if (displacement > best_displacement) {

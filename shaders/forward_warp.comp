@@ -23,7 +23,7 @@ layout(push_constant) uniform Push {
 } push;
 
 void write_min(Camera target, ivec2 q, uint bits) {
-  if (target.model == kModelEquirectangular) q.x = (q.x % int(target.width) + int(target.width)) % int(target.width);
+  if (model_of(target, kTargetModel) == kModelEquirectangular) q.x = (q.x % int(target.width) + int(target.width)) % int(target.width);
   if (q.x < 0 || q.y < 0 || q.x >= int(target.width) || q.y >= int(target.height)) return;
   atomicMin(zbuffer[uint(q.y) * target.width + uint(q.x)], bits);
 }
@@ -34,10 +34,10 @@ void main() {
   if (p.x >= source.width || p.y >= source.height) return;
   const float d = distance_map[p.y * source.width + p.x];
   vec3 ray;
-  if (!(d > 0.0) || isinf(d) || !unproject(source, vec2(p), ray)) return;
+  if (!(d > 0.0) || isinf(d) || !unproject_source(source, vec2(p), ray)) return;
   const vec3 x = to_camera(target, d * ray);
   vec2 uv;
-  if (!project(target, x, uv)) return;
+  if (!project_target(target, x, uv)) return;
   const uint bits = floatBitsToUint(length(x));
   const ivec2 nearest = ivec2(floor(uv + 0.5));
   if (push.max_splat <= 1.0) {
@@ -48,12 +48,12 @@ void main() {
   for (int k = 0; k < 2; ++k) {
     vec3 neighbour_ray;
     vec2 neighbour_uv;
-    if (!unproject(source, vec2(p) + (k == 0 ? vec2(1.0, 0.0) : vec2(0.0, 1.0)), neighbour_ray) ||
-        !project(target, to_camera(target, d * neighbour_ray), neighbour_uv)) {
+    if (!unproject_source(source, vec2(p) + (k == 0 ? vec2(1.0, 0.0) : vec2(0.0, 1.0)), neighbour_ray) ||
+        !project_target(target, to_camera(target, d * neighbour_ray), neighbour_uv)) {
       continue;
     }
     vec2 delta = neighbour_uv - uv;
-    if (target.model == kModelEquirectangular) delta.x -= float(target.width) * round(delta.x / float(target.width));
+    if (model_of(target, kTargetModel) == kModelEquirectangular) delta.x -= float(target.width) * round(delta.x / float(target.width));
     half_extent += 0.5 * abs(delta);  // the footprint's bounding box: +-(dx + dy) / 2
   }
   half_extent = min(half_extent, vec2(0.5 * push.max_splat));

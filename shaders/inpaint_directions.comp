@@ -22,15 +22,15 @@ void main() {
   if (q.x >= target.width || q.y >= target.height) return;
   Direction result = Direction(0xffffu, 0.0, 0.0, 0u);
   vec3 ray;
-  if (unproject(target, vec2(q), ray)) {
+  if (unproject_target(target, vec2(q), ray)) {
     // The target ray's direction expressed in the source's axes (rows hold target_from_source).
     const mat3 target_from_source = transpose(mat3(target.row0.xyz, target.row1.xyz, target.row2.xyz));
     const vec3 rho = transpose(target_from_source) * ray;
     vec2 near_uv, far_uv;
-    const bool ok = project(target, to_camera(target, push.d_min * rho), near_uv) &&
-                    project(target, to_camera(target, push.d_max * rho), far_uv);
+    const bool ok = project_target(target, to_camera(target, push.d_min * rho), near_uv) &&
+                    project_target(target, to_camera(target, push.d_max * rho), far_uv);
     vec2 v = far_uv - near_uv;
-    if (target.model == kModelEquirectangular) v.x -= float(target.width) * round(v.x / float(target.width));
+    if (model_of(target, kTargetModel) == kModelEquirectangular) v.x -= float(target.width) * round(v.x / float(target.width));
     if (ok && length(v) > 1e-6) {
       const vec2 dir = normalize(v);
       float best0 = 0.0, best1 = 0.0;

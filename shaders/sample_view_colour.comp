@@ -24,7 +24,7 @@ const uint kEmpty = 0xffffffffu;
 
 // Source pixel index of integer coordinates, wrapping panoramas horizontally, clamping others.
 uint source_index(Camera source, ivec2 p) {
-  if (source.model == kModelEquirectangular) {
+  if (model_of(source, kSourceModel) == kModelEquirectangular) {
     p.x = (p.x % int(source.width) + int(source.width)) % int(source.width);
   } else {
     p.x = clamp(p.x, 0, int(source.width) - 1);
@@ -40,7 +40,7 @@ void main() {
   const uint index = q.y * target.width + q.x;
   const uint bits = warped[index];
   vec3 ray;
-  if (bits == kEmpty || !unproject(target, vec2(q), ray)) {
+  if (bits == kEmpty || !unproject_target(target, vec2(q), ray)) {
     colour[index] = 0u;
     return;
   }
@@ -49,7 +49,7 @@ void main() {
   const vec3 x_target = uintBitsToFloat(bits) * ray;
   const vec3 x = source_from_target * (x_target - vec3(target.row0.w, target.row1.w, target.row2.w));
   vec2 uv;
-  if (!project(source, x, uv)) {
+  if (!project_source(source, x, uv)) {
     colour[index] = 0u;
     return;
   }

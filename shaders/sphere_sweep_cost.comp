@@ -49,7 +49,7 @@ void main() {
   const uint pixel = p.y * push.width + p.x;
   const int selected = selection[pixel];
   vec3 ray = vec3(0.0);
-  const bool matching = selected >= 0 && unproject(cameras[push.reference], vec2(p), ray);
+  const bool matching = selected >= 0 && unproject_source(cameras[push.reference], vec2(p), ray);
   const vec3 reference_rgb = unpack_rgb(images[push.reference * push.width * push.height + pixel]);
   const float step = (push.inv_d_max - push.inv_d_min) / float(push.num_candidates - 1u);
   // What does not change with the candidate, once per pixel: the selected camera and the ray in
@@ -63,7 +63,7 @@ void main() {
       const float distance_i = 1.0 / (push.inv_d_min + step * float(i));
       vec2 uv;
       vec3 rgb = vec3(0.0);
-      if (project(c, distance_i * rotated + translation, uv)) rgb = bilinear(uint(selected), uv);
+      if (project_source(c, distance_i * rotated + translation, uv)) rgb = bilinear(uint(selected), uv);
       const vec3 d = abs(rgb - reference_rgb);
       cost = min(d.x + d.y + d.z, 500.0);
     }

@@ -84,7 +84,7 @@ void main() {
     const vec3 dir_c = vec3(dot(c.row0.xyz, dir), dot(c.row1.xyz, dir), dot(c.row2.xyz, dir));
     const vec3 t_c = vec3(c.row0.w, c.row1.w, c.row2.w);
     vec2 uv;
-    project(c, dir_c, uv);
+    project_source(c, dir_c, uv);
     uv = clamp(uv, vec2(0.1), vec2(c.width, c.height) - 1.1);
     float r;
     if (!(w > 0.0) || !sample_warped(k, c, uv, r) || !(r > 0.0)) continue;
@@ -93,7 +93,7 @@ void main() {
     const float d = min(r, sample_original(k, c, uv));
     vec3 ray;
     vec2 colour_uv;
-    if (unproject(c, uv, ray) && project(colour_camera, d * ray + t_c, colour_uv)) {
+    if (unproject_source(c, uv, ray) && project_source(colour_camera, d * ray + t_c, colour_uv)) {
       rgb += w * sample_colour(k, colour_camera, colour_uv);
     }
   }

@@ -23,6 +23,13 @@ struct WtaPush {
   float inv_d_min, inv_d_max, d_max;
 };
 
+// `layout` with the camera kernels' model constants for `rig`'s cameras.
+gpu::KernelLayout with_rig_model(gpu::KernelLayout layout, const Rig& rig) {
+  const auto models = reproject::model_constants(reproject::common_model(rig));
+  layout.constants.insert(layout.constants.end(), models.begin(), models.end());
+  return layout;
+}
+
 const Rig& checked(const Rig& rig, const DepthOptions& options) {
   options.check(rig.num_cameras());
   rig.check();
@@ -52,11 +59,15 @@ DepthEstimator::DepthEstimator(gpu::Context& context, const Rig& rig,
       height_(options.matching_height),
       layout_(plan_volume(context, width_, height_, options.num_candidates, options.half_costs)),
       selection_kernel_(context, "camera_selection",
-                        {.bindings = {1, 1, 1}, .push_constant_bytes = sizeof(SelectionPush)}),
+                        {.bindings = {1, 1, 1},
+                         .push_constant_bytes = sizeof(SelectionPush),
+                         .constants = reproject::model_constants(reproject::common_model(rig))}),
       guide_kernel_(context, "ycbcr_guide",
                     {.bindings = {1, 1}, .push_constant_bytes = sizeof(GuidePush)}),
       sweep_kernel_(context, volume_shader("sphere_sweep_cost", layout_),
-                    volume_kernel_layout({1, 1, 1, kMaxChunks}, sizeof(SweepPush), layout_)),
+                    with_rig_model(
+                        volume_kernel_layout({1, 1, 1, kMaxChunks}, sizeof(SweepPush), layout_),
+                        rig)),
       wta_kernel_(context, volume_shader("winner_take_all", layout_),
                   volume_kernel_layout({kMaxChunks, 1}, sizeof(WtaPush), layout_)),
       volume_(context, width_, height_, layout_),

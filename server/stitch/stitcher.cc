@@ -13,6 +13,12 @@ Eigen::Vector3d mean_position(const Rig& rig, const std::vector<int>& references
 
 std::uint64_t area(const RigCamera& c) { return std::uint64_t(c.width) * c.height; }
 
+// The model of the merge's cameras (both rigs'), where they share one.
+reproject::GpuModel merge_model(const Rig& matching, const Rig& colour) {
+  const reproject::GpuModel m = reproject::common_model(matching);
+  return m == reproject::common_model(colour) ? m : reproject::GpuModel::kAny;
+}
+
 struct MergePush {
   std::uint32_t width, height, references;
 };
@@ -51,7 +57,9 @@ Stitcher::Stitcher(gpu::Context& context, const Rig& matching_rig, const Rig& co
       out_colour_(context, std::uint64_t(options.panorama_width) * options.panorama_height * 4),
       out_distance_(context, std::uint64_t(options.panorama_width) * options.panorama_height * 4),
       merge_(context, "stitch_merge",
-             {.bindings = {1, 1, 1, 1, 1, 1, 1}, .push_constant_bytes = sizeof(MergePush)}),
+             {.bindings = {1, 1, 1, 1, 1, 1, 1},
+              .push_constant_bytes = sizeof(MergePush),
+              .constants = reproject::model_constants(merge_model(matching_rig, colour_rig))}),
       sequence_(context) {
   if (options.panorama_width != 2 * options.panorama_height || options.panorama_height < 4) {
     throw std::invalid_argument("panorama-resolution: width must be twice the height (got " +
@@ -109,8 +117,11 @@ void Stitcher::compute_weights(const std::vector<std::optional<Gray8Image>>& usa
   mask_buffer.upload(std::span<const float>(masks));
   const gpu::Kernel box(context, "box_filter",
                         {.bindings = {1, 1}, .push_constant_bytes = sizeof(BoxPush)});
-  const gpu::Kernel raw(context, "blend_weights",
-                        {.bindings = {1, 1, 1}, .push_constant_bytes = sizeof(WeightsPush)});
+  const gpu::Kernel raw(
+      context, "blend_weights",
+      {.bindings = {1, 1, 1},
+       .push_constant_bytes = sizeof(WeightsPush),
+       .constants = reproject::model_constants(reproject::common_model(matching_rig_))});
   const gpu::Kernel normalise(context, "normalize_weights",
                               {.bindings = {1}, .push_constant_bytes = sizeof(MergePush)});
   gpu::Sequence seq(context, 16, 1);

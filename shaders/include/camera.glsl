@@ -3,11 +3,23 @@
 // server/depth/gpu_camera.cc; rows of cam_from_ref take points from the reference camera's
 // frame into this camera's frame (w holds the translation).
 
-const uint kModelDoubleSphere = 0u;
-const uint kModelKannalaBrandt = 1u;
-const uint kModelExtendedUnified = 2u;
-const uint kModelPinhole = 3u;
-const uint kModelEquirectangular = 4u;  // panorama, ALGORITHM.md §5 convention; width, height only
+#include "omnisweep/reproject/camera_model_ids.h"
+
+const uint kModelDoubleSphere = uint(OMNISWEEP_MODEL_DOUBLE_SPHERE);
+const uint kModelKannalaBrandt = uint(OMNISWEEP_MODEL_KANNALA_BRANDT);
+const uint kModelExtendedUnified = uint(OMNISWEEP_MODEL_EXTENDED_UNIFIED);
+const uint kModelPinhole = uint(OMNISWEEP_MODEL_PINHOLE);
+// Panorama, ALGORITHM.md §5 convention; width, height only.
+const uint kModelEquirectangular = uint(OMNISWEEP_MODEL_EQUIRECTANGULAR);
+const uint kModelAny = uint(OMNISWEEP_MODEL_ANY);
+
+// The model every camera of a role has, where the host knows it (specialization constants 20
+// and 21, reproject::model_constants); kModelAny leaves it to each camera's `model` field. With
+// the model fixed the compiler keeps only that model's code: a CPU device (lavapipe) would
+// otherwise run every model's branch under a mask for every call, and a GPU holds registers for
+// all of them. Sources are the rig's cameras (and the warp's source), targets the views warped to.
+layout(constant_id = 20) const uint kSourceModel = kModelAny;
+layout(constant_id = 21) const uint kTargetModel = kModelAny;
 
 const float kPi = 3.14159265358979;
 
@@ -37,9 +49,12 @@ float kb4_distort(Camera c, float t) {
   return t * (1.0 + t2 * (c.extra.x + t2 * (c.extra.y + t2 * (c.extra.z + t2 * c.extra.w))));
 }
 
-// Projects p (camera frame) to pixel coordinates; false when invalid.
-bool project(Camera c, vec3 p, out vec2 uv) {
-  if (c.model == kModelEquirectangular) {
+uint model_of(Camera c, uint fixed_model) { return fixed_model == kModelAny ? c.model : fixed_model; }
+
+// Projects p (camera frame) to pixel coordinates with camera c of model `model`; false when
+// invalid.
+bool project_as(uint model, Camera c, vec3 p, out vec2 uv) {
+  if (model == kModelEquirectangular) {
     const float n = length(p);
     const float phi = asin(clamp(p.y / max(n, 1e-30), -1.0, 1.0));
     float theta = atan(p.x, p.z) - kPi;  // (-2 pi, 0]
@@ -51,7 +66,7 @@ bool project(Camera c, vec3 p, out vec2 uv) {
   }
   vec2 m = vec2(0.0);
   bool ok = in_valid_cone(c, p);
-  if (c.model == kModelDoubleSphere) {
+  if (model == kModelDoubleSphere) {
     const float xi = c.extra.x, alpha = c.extra.y;
     const float d1 = length(p);
     const float k = xi * d1 + p.z;
@@ -59,11 +74,11 @@ bool project(Camera c, vec3 p, out vec2 uv) {
     const float den = alpha * d2 + (1.0 - alpha) * k;
     ok = ok && den > 0.0;
     m = p.xy / den;
-  } else if (c.model == kModelKannalaBrandt) {
+  } else if (model == kModelKannalaBrandt) {
     const float r = length(p.xy);
     const float d = kb4_distort(c, atan(r, p.z));
     m = r > 1e-9 * abs(p.z) ? p.xy * (d / r) : p.xy / p.z;
-  } else if (c.model == kModelExtendedUnified) {
+  } else if (model == kModelExtendedUnified) {
     const float alpha = c.extra.x, beta = c.extra.y;
     const float d = sqrt(beta * dot(p.xy, p.xy) + p.z * p.z);
     const float den = alpha * d + (1.0 - alpha) * p.z;
@@ -77,9 +92,10 @@ bool project(Camera c, vec3 p, out vec2 uv) {
   return ok && !any(isnan(uv)) && !any(isinf(uv));
 }
 
-// Unprojects a pixel to a unit ray (camera frame); false when the pixel sees no valid ray.
-bool unproject(Camera c, vec2 uv, out vec3 ray) {
-  if (c.model == kModelEquirectangular) {
+// Unprojects a pixel of camera c (of model `model`) to a unit ray (camera frame); false when the
+// pixel sees no valid ray.
+bool unproject_as(uint model, Camera c, vec2 uv, out vec3 ray) {
+  if (model == kModelEquirectangular) {
     const float phi = (uv.y + 0.5) * kPi / float(c.height) - 0.5 * kPi;
     const float theta = (uv.x + 0.5) * 2.0 * kPi / float(c.width) + kPi;
     ray = vec3(cos(phi) * sin(theta), sin(phi), cos(phi) * cos(theta));
@@ -88,7 +104,7 @@ bool unproject(Camera c, vec2 uv, out vec3 ray) {
   const vec2 m = (uv - c.focal_center.zw) / c.focal_center.xy;
   const float r2 = dot(m, m);
   vec3 r = vec3(0.0, 0.0, 1.0);
-  if (c.model == kModelDoubleSphere) {
+  if (model == kModelDoubleSphere) {
     const float xi = c.extra.x, alpha = c.extra.y;
     const float s1 = 1.0 - (2.0 * alpha - 1.0) * r2;
     if (s1 < 0.0) return false;
@@ -98,7 +114,7 @@ bool unproject(Camera c, vec2 uv, out vec3 ray) {
     if (s2 < 0.0 || den <= 0.0) return false;
     const float k = (mz * xi + sqrt(s2)) / den;
     r = vec3(k * m, k * mz - xi);
-  } else if (c.model == kModelKannalaBrandt) {
+  } else if (model == kModelKannalaBrandt) {
     const float ru = sqrt(r2);
     const float theta_max = acos(clamp(c.cos_max, -1.0, 1.0));
     if (ru > kb4_distort(c, theta_max)) return false;
@@ -111,7 +127,7 @@ bool unproject(Camera c, vec2 uv, out vec3 ray) {
     r = ru > 0.0 ? vec3(sin(theta) * m / ru, cos(theta)) : vec3(0.0, 0.0, 1.0);
     ray = r;
     return true;
-  } else if (c.model == kModelExtendedUnified) {
+  } else if (model == kModelExtendedUnified) {
     const float alpha = c.extra.x, beta = c.extra.y;
     const float s = 1.0 - (2.0 * alpha - 1.0) * beta * r2;
     if (s < 0.0) return false;
@@ -123,3 +139,9 @@ bool unproject(Camera c, vec2 uv, out vec3 ray) {
   ray = normalize(r);
   return true;
 }
+
+// The calls kernels make: a camera in the source or the target role.
+bool project_source(Camera c, vec3 p, out vec2 uv) { return project_as(model_of(c, kSourceModel), c, p, uv); }
+bool project_target(Camera c, vec3 p, out vec2 uv) { return project_as(model_of(c, kTargetModel), c, p, uv); }
+bool unproject_source(Camera c, vec2 uv, out vec3 ray) { return unproject_as(model_of(c, kSourceModel), c, uv, ray); }
+bool unproject_target(Camera c, vec2 uv, out vec3 ray) { return unproject_as(model_of(c, kTargetModel), c, uv, ray); }

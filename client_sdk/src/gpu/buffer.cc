@@ -9,10 +9,36 @@ namespace omnisweep::gpu {
 namespace {
 
 constexpr auto kUsage = vk::BufferUsageFlagBits::eStorageBuffer |
+                        vk::BufferUsageFlagBits::eUniformTexelBuffer |
                         vk::BufferUsageFlagBits::eTransferSrc |
                         vk::BufferUsageFlagBits::eTransferDst;
 
+vk::Format vk_format(TexelFormat format) {
+  switch (format) {
+    case TexelFormat::kR32Uint:
+      return vk::Format::eR32Uint;
+    case TexelFormat::kRgba32Uint:
+      return vk::Format::eR32G32B32A32Uint;
+    case TexelFormat::kR32Float:
+      return vk::Format::eR32Sfloat;
+    case TexelFormat::kR16Float:
+      return vk::Format::eR16Sfloat;
+  }
+  throw GpuError("unknown texel format");
+}
+
 }  // namespace
+
+std::uint32_t texel_bytes(TexelFormat format) {
+  switch (format) {
+    case TexelFormat::kRgba32Uint:
+      return 16;
+    case TexelFormat::kR16Float:
+      return 2;
+    default:
+      return 4;
+  }
+}
 
 Buffer::Buffer(Context& context, vk::DeviceSize bytes) : context_(&context), size_(bytes) {
   if (bytes == 0) throw GpuError("cannot create an empty GPU buffer");
@@ -41,10 +67,15 @@ Buffer::Buffer(Buffer&& other) noexcept
       memory_(other.memory_),
       buffer_(std::move(other.buffer_)),
       device_memory_(std::move(other.device_memory_)),
-      mapped_(std::exchange(other.mapped_, nullptr)) {}
+      mapped_(std::exchange(other.mapped_, nullptr)),
+      views_mutex_(std::move(other.views_mutex_)),
+      views_(std::move(other.views_)) {
+  other.views_mutex_ = std::make_unique<std::mutex>();
+}
 
 Buffer& Buffer::operator=(Buffer&& other) noexcept {
   if (this != &other) {
+    views_.clear();  // before the buffer they view
     if (*buffer_) context_->track_allocation(-std::int64_t(size_));
     context_ = other.context_;
     size_ = other.size_;
@@ -52,8 +83,32 @@ Buffer& Buffer::operator=(Buffer&& other) noexcept {
     buffer_ = std::move(other.buffer_);
     device_memory_ = std::move(other.device_memory_);
     mapped_ = std::exchange(other.mapped_, nullptr);
+    views_ = std::move(other.views_);
+    other.views_.clear();
   }
   return *this;
+}
+
+vk::BufferView Buffer::texel_view(TexelFormat format) const {
+  const std::lock_guard lock(*views_mutex_);
+  for (const auto& [f, view] : views_) {
+    if (f == format) return *view;
+  }
+  const std::uint64_t texels = size_ / texel_bytes(format);
+  if (texels == 0 || texels > context_->info().max_texel_buffer_elements) {
+    throw GpuError("a texel view of " + std::to_string(texels) + " texels is outside (0, " +
+                   std::to_string(context_->info().max_texel_buffer_elements) +
+                   "], the device's maxTexelBufferElements");
+  }
+  try {
+    views_.emplace_back(format, vk::raii::BufferView(
+                                    context_->device(),
+                                    vk::BufferViewCreateInfo({}, *buffer_, vk_format(format), 0,
+                                                             texels * texel_bytes(format))));
+  } catch (const vk::SystemError& e) {
+    throw GpuError(std::string("cannot create a texel view of a GPU buffer: ") + e.what());
+  }
+  return *views_.back().second;
 }
 
 void Buffer::check_range(std::size_t bytes, std::size_t offset) const {

@@ -23,6 +23,12 @@ Kernel::Kernel(const Context& context, const std::string& shader, KernelLayout l
                    std::to_string(props_limits.max_storage_buffers_per_stage) + " on " +
                    props_limits.name);
   }
+  if (layout_.texel_buffers > props_limits.max_sampled_images_per_stage) {
+    throw GpuError("kernel " + shader + ": binds " + std::to_string(layout_.texel_buffers) +
+                   " texel buffers, over the limit of " +
+                   std::to_string(props_limits.max_sampled_images_per_stage) + " on " +
+                   props_limits.name);
+  }
   try {
     std::vector<vk::DescriptorSetLayoutBinding> bindings;
     for (std::uint32_t i = 0; i < layout_.bindings.size(); ++i) {
@@ -33,6 +39,11 @@ Kernel::Kernel(const Context& context, const std::string& shader, KernelLayout l
       bindings.emplace_back(std::uint32_t(layout_.bindings.size()) + i,
                             vk::DescriptorType::eStorageImage, 1,
                             vk::ShaderStageFlagBits::eCompute);
+    }
+    for (std::uint32_t i = 0; i < layout_.texel_buffers; ++i) {
+      bindings.emplace_back(
+          std::uint32_t(layout_.bindings.size() + layout_.storage_images) + i,
+          vk::DescriptorType::eUniformTexelBuffer, 1, vk::ShaderStageFlagBits::eCompute);
     }
     set_layout_ = vk::raii::DescriptorSetLayout(context.device(),
                                                 vk::DescriptorSetLayoutCreateInfo({}, bindings));

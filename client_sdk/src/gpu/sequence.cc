@@ -8,9 +8,10 @@ namespace omnisweep::gpu {
 
 Sequence::Sequence(const Context& context, std::uint32_t max_dispatches, std::uint32_t max_stages)
     : context_(&context), max_stages_(max_stages) {
-  const std::array<vk::DescriptorPoolSize, 2> sizes = {
+  const std::array<vk::DescriptorPoolSize, 3> sizes = {
       vk::DescriptorPoolSize(vk::DescriptorType::eStorageBuffer, max_dispatches * 24),
-      vk::DescriptorPoolSize(vk::DescriptorType::eStorageImage, max_dispatches * 4)};
+      vk::DescriptorPoolSize(vk::DescriptorType::eStorageImage, max_dispatches * 4),
+      vk::DescriptorPoolSize(vk::DescriptorType::eUniformTexelBuffer, max_dispatches * 8)};
   pool_ = vk::raii::DescriptorPool(context.device(),
                                    vk::DescriptorPoolCreateInfo({}, max_dispatches, sizes));
   command_pool_ = vk::raii::CommandPool(
@@ -46,18 +47,29 @@ void Sequence::dispatch(const Kernel& kernel, const std::vector<Binding>& bindin
     throw GpuError("kernel " + kernel.name() + ": dispatch outside begin()/submit_and_wait()");
   const auto& layout = kernel.layout();
   const std::size_t buffer_bindings = layout.bindings.size();
-  if (bindings.size() != buffer_bindings + layout.storage_images) {
+  const std::size_t image_end = buffer_bindings + layout.storage_images;
+  if (bindings.size() != image_end + layout.texel_buffers) {
     throw GpuError("kernel " + kernel.name() + ": expects " +
-                   std::to_string(buffer_bindings + layout.storage_images) + " bindings, got " +
+                   std::to_string(image_end + layout.texel_buffers) + " bindings, got " +
                    std::to_string(bindings.size()));
   }
   std::vector<vk::DescriptorImageInfo> image_infos;
-  for (std::size_t b = buffer_bindings; b < bindings.size(); ++b) {
+  for (std::size_t b = buffer_bindings; b < image_end; ++b) {
     if (!bindings[b].image) {
       throw GpuError("kernel " + kernel.name() + ": binding " + std::to_string(b) +
                      " takes a storage image");
     }
     image_infos.emplace_back(nullptr, bindings[b].image->view(), vk::ImageLayout::eGeneral);
+  }
+  std::vector<vk::BufferView> texel_views;
+  std::uint64_t texel_bytes = 0;
+  for (std::size_t b = image_end; b < bindings.size(); ++b) {
+    if (!bindings[b].texels) {
+      throw GpuError("kernel " + kernel.name() + ": binding " + std::to_string(b) +
+                     " takes a texel buffer");
+    }
+    texel_views.push_back(bindings[b].texels->buffer->texel_view(bindings[b].texels->format));
+    texel_bytes += bindings[b].texels->buffer->size();
   }
   if (push_bytes != layout.push_constant_bytes) {
     throw GpuError("kernel " + kernel.name() + ": push constants are " +
@@ -75,7 +87,8 @@ void Sequence::dispatch(const Kernel& kernel, const std::vector<Binding>& bindin
   std::vector<std::vector<vk::DescriptorBufferInfo>> infos(buffer_bindings);
   std::uint64_t bound_bytes = 0;
   for (std::size_t b = 0; b < buffer_bindings; ++b) {
-    if (bindings[b].image || bindings[b].buffers.size() != layout.bindings[b]) {
+    if (bindings[b].image || bindings[b].texels ||
+        bindings[b].buffers.size() != layout.bindings[b]) {
       throw GpuError("kernel " + kernel.name() + ": binding " + std::to_string(b) + " takes " +
                      std::to_string(layout.bindings[b]) + " buffers, got " +
                      std::to_string(bindings[b].buffers.size()));
@@ -106,6 +119,11 @@ void Sequence::dispatch(const Kernel& kernel, const std::vector<Binding>& bindin
     writes.emplace_back(set, std::uint32_t(buffer_bindings + i), 0, 1,
                         vk::DescriptorType::eStorageImage, &image_infos[i]);
   }
+  for (std::size_t i = 0; i < texel_views.size(); ++i) {
+    writes.emplace_back(set, std::uint32_t(image_end + i), 0, 1,
+                        vk::DescriptorType::eUniformTexelBuffer, nullptr, nullptr,
+                        &texel_views[i]);
+  }
   context_->device().updateDescriptorSets(writes, nullptr);
   const auto& cmd = commands_[0];
   cmd.bindPipeline(vk::PipelineBindPoint::eCompute, kernel.pipeline());
@@ -119,8 +137,9 @@ void Sequence::dispatch(const Kernel& kernel, const std::vector<Binding>& bindin
   }
   cmd.dispatch(groups[0], groups[1], groups[2]);
   if (CommandLog* log = context_->command_log()) {
-    for (std::size_t b = buffer_bindings; b < bindings.size(); ++b)
+    for (std::size_t b = buffer_bindings; b < image_end; ++b)
       bound_bytes += bindings[b].image->bytes();
+    bound_bytes += texel_bytes;
     const auto& local = layout.local_size;
     log->add_dispatch({.kernel = kernel.name(),
                        .stage = current_stage(),

@@ -38,11 +38,34 @@ gpu::KernelLayout inpaint_layout(std::uint32_t tile) {
 
 std::uint64_t pixels(const GpuCamera& c) { return std::uint64_t(c.width) * c.height; }
 
+// A kernel that projects, compiled for the source's and the target's camera models.
+gpu::Kernel camera_kernel(const gpu::Context& context, const char* shader,
+                          std::vector<std::uint32_t> bindings, std::uint32_t push_bytes,
+                          const GpuCamera& source, const GpuCamera& target) {
+  return gpu::Kernel(context, shader,
+                     {.bindings = std::move(bindings),
+                      .push_constant_bytes = push_bytes,
+                      .constants = model_constants(GpuModel(source.model), GpuModel(target.model))});
+}
+gpu::Kernel warp_kernel(const gpu::Context& context, const GpuCamera& source,
+                        const GpuCamera& target) {
+  return camera_kernel(context, "forward_warp", {1, 1, 1}, 4, source, target);
+}
+gpu::Kernel directions_kernel(const gpu::Context& context, const GpuCamera& source,
+                              const GpuCamera& target) {
+  return camera_kernel(context, "inpaint_directions", {1, 1}, 8, source, target);
+}
+gpu::Kernel sample_colour_kernel(const gpu::Context& context, const GpuCamera& source,
+                                 const GpuCamera& target) {
+  return camera_kernel(context, "sample_view_colour", {1, 1, 1, 1, 1}, 4, source, target);
+}
+
 }  // namespace
 
 ForwardWarper::ForwardWarper(gpu::Context& context, const GpuCamera& source,
                              const GpuCamera& target, const WarpOptions& options)
-    : source_(source),
+    : context_(&context),
+      source_(source),
       target_(target),
       options_(options),
       cameras_(context, 2 * sizeof(GpuCamera)),
@@ -50,9 +73,8 @@ ForwardWarper::ForwardWarper(gpu::Context& context, const GpuCamera& source,
       buffers_{gpu::Buffer(context, pixels(target) * 4), gpu::Buffer(context, pixels(target) * 4)},
       filled_(context, kMaxPasses * 4),
       tile_(inpaint_tile(context)),
-      warp_(context, "forward_warp", {.bindings = {1, 1, 1}, .push_constant_bytes = 4}),
-      directions_kernel_(context, "inpaint_directions",
-                         {.bindings = {1, 1}, .push_constant_bytes = 8}),
+      warp_(warp_kernel(context, source, target)),
+      directions_kernel_(directions_kernel(context, source, target)),
       inpaint_(context, "directional_inpaint", inpaint_layout(tile_)) {
   if (source.width == 0 || target.width == 0)
     throw std::invalid_argument("forward warp: empty source or target");
@@ -69,9 +91,7 @@ ForwardWarper::ForwardWarper(gpu::Context& context, const GpuCamera& source,
   if (options.colour) {
     colour_buffers_.emplace_back(context, pixels(target) * 4);
     colour_buffers_.emplace_back(context, pixels(target) * 4);
-    sample_colour_.emplace(
-        context, "sample_view_colour",
-        gpu::KernelLayout{.bindings = {1, 1, 1, 1, 1}, .push_constant_bytes = 4});
+    sample_colour_.emplace(sample_colour_kernel(context, source, target));
     inpaint_colour_.emplace(context, "directional_inpaint_colour", inpaint_layout(tile_));
   }
   set_target(target);
@@ -80,6 +100,11 @@ ForwardWarper::ForwardWarper(gpu::Context& context, const GpuCamera& source,
 void ForwardWarper::set_target(const GpuCamera& target) {
   if (target.width != target_.width || target.height != target_.height)
     throw std::invalid_argument("forward warp: set_target must keep the target's size");
+  if (target.model != target_.model) {  // the kernels were compiled for the other model
+    warp_ = warp_kernel(*context_, source_, target);
+    directions_kernel_ = directions_kernel(*context_, source_, target);
+    if (sample_colour_) sample_colour_.emplace(sample_colour_kernel(*context_, source_, target));
+  }
   target_ = target;
   const GpuCamera pair[2] = {source_, target_};
   cameras_.upload(pair, sizeof(pair));
@@ -99,7 +124,7 @@ void ForwardWarper::record_inpaint(gpu::Sequence& seq, const gpu::Kernel& kernel
                                                (target_.height + tile_ - 1) / tile_, 1};
   for (int pass = first_pass; pass < first_pass + passes; pass += kPassesPerDispatch) {
     const int n = std::min(kPassesPerDispatch, first_pass + passes - pass);
-    const InpaintPush push{target_.width, target_.height, target_.model == 4 ? 1u : 0u,
+    const InpaintPush push{target_.width, target_.height, target_.model == std::uint32_t(GpuModel::kEquirectangular) ? 1u : 0u,
                            std::uint32_t(pass), std::uint32_t(n)};
     seq.dispatch(kernel, {directions_, buffers[*current], buffers[1 - *current], filled_}, push,
                  groups);

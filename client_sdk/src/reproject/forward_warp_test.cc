@@ -171,7 +171,7 @@ TEST_F(ForwardWarpTest, TiledInpaintingMatchesPassByPassInpainting) {
   const GpuCamera targets[2] = {pack_camera(pinhole, kSize, kSize, target_from_source),
                                 pack_equirectangular(200, 100, target_from_source)};
   for (const GpuCamera& target : targets) {
-    const bool wrap = target.model == 4;
+    const bool wrap = target.model == std::uint32_t(GpuModel::kEquirectangular);
     const int w = int(target.width), h = int(target.height);
     ForwardWarper raw(context(), source, target, {.inpaint_passes = 0});
     gpu::Sequence seq(context());

@@ -6,11 +6,11 @@
 namespace omnisweep::reproject {
 namespace {
 
-std::uint32_t model_id(std::string_view name) {
-  if (name == "ds") return 0;
-  if (name == "kb4") return 1;
-  if (name == "eucm") return 2;
-  if (name == "pinhole") return 3;
+GpuModel model_id(std::string_view name) {
+  if (name == "ds") return GpuModel::kDoubleSphere;
+  if (name == "kb4") return GpuModel::kKannalaBrandt;
+  if (name == "eucm") return GpuModel::kExtendedUnified;
+  if (name == "pinhole") return GpuModel::kPinhole;
   throw std::invalid_argument("camera model '" + std::string(name) + "' has no GPU implementation");
 }
 
@@ -46,7 +46,7 @@ GpuCamera pack_camera(const CameraModel<double>& model, int width, int height,
   for (int i = 0; i < 4; ++i) g.focal_center[i] = float(params[i]);
   for (std::size_t i = 4; i < params.size() && i < 8; ++i) g.extra[i - 4] = float(params[i]);
   set_pose(&g, cam_from_ref);
-  g.model = model_id(model.name());
+  g.model = std::uint32_t(model_id(model.name()));
   g.cos_max = float(std::cos(model.max_angle()));
   g.width = std::uint32_t(width);
   g.height = std::uint32_t(height);
@@ -56,7 +56,7 @@ GpuCamera pack_camera(const CameraModel<double>& model, int width, int height,
 GpuCamera pack_equirectangular(int width, int height, const Rigid3d& cam_from_ref) {
   GpuCamera g{};
   set_pose(&g, cam_from_ref);
-  g.model = 4;
+  g.model = std::uint32_t(GpuModel::kEquirectangular);
   g.cos_max = -2.0f;  // every direction is valid
   g.width = std::uint32_t(width);
   g.height = std::uint32_t(height);
@@ -70,6 +70,28 @@ std::vector<GpuCamera> pack_cameras(const Rig& rig, int reference) {
     out.push_back(pack_camera(cam.model, cam.width, cam.height, rig.cam_from_cam(c, reference)));
   }
   return out;
+}
+
+GpuModel common_model(std::span<const GpuCamera> cameras) {
+  if (cameras.empty()) return GpuModel::kAny;
+  for (const GpuCamera& c : cameras) {
+    if (c.model != cameras[0].model) return GpuModel::kAny;
+  }
+  return GpuModel(cameras[0].model);
+}
+
+GpuModel common_model(const Rig& rig) {
+  if (rig.cameras.empty()) return GpuModel::kAny;
+  const GpuModel first = model_id(rig.cameras[0].model.name());
+  for (const RigCamera& cam : rig.cameras) {
+    if (model_id(cam.model.name()) != first) return GpuModel::kAny;
+  }
+  return first;
+}
+
+std::vector<gpu::SpecConstant> model_constants(GpuModel source, GpuModel target) {
+  return {gpu::SpecConstant::of(20, std::uint32_t(source)),
+          gpu::SpecConstant::of(21, std::uint32_t(target))};
 }
 
 }  // namespace omnisweep::reproject

@@ -6,12 +6,27 @@
 #pragma once
 
 #include <cstddef>
+#include <memory>
+#include <mutex>
 #include <span>
+#include <utility>
 #include <vector>
 
 #include "omnisweep/gpu/context.h"
 
 namespace omnisweep::gpu {
+
+// How a kernel reads a buffer through a uniform texel buffer (GLSL usamplerBuffer / samplerBuffer
+// with texelFetch). Reads of texel buffers are gathers on CPU devices (lavapipe fetches eight
+// lanes with one vector gather, where a storage-buffer load is a loop over the lanes) and go
+// through the texture cache on GPUs; the values are the buffer's bits, unfiltered.
+enum class TexelFormat {
+  kR32Uint,     // usamplerBuffer, one uint per texel
+  kRgba32Uint,  // usamplerBuffer, a uvec4 per texel (16 bytes)
+  kR32Float,    // samplerBuffer, one float per texel
+  kR16Float,    // samplerBuffer, one 16-bit float per texel (read as float)
+};
+std::uint32_t texel_bytes(TexelFormat format);
 
 class Buffer {
  public:
@@ -27,6 +42,11 @@ class Buffer {
   vk::Buffer handle() const { return *buffer_; }
   // The memory it lives in and how it is reached (mapped or through staging).
   const MemoryChoice& memory() const { return memory_; }
+
+  // A view of the whole buffer as texels of `format` (whole texels only), made on first use and
+  // kept while the buffer lives. Throws GpuError when the buffer holds more texels than the
+  // device's maxTexelBufferElements.
+  vk::BufferView texel_view(TexelFormat format) const;
 
   void upload(const void* data, std::size_t bytes, std::size_t offset = 0);
   void download(void* data, std::size_t bytes, std::size_t offset = 0) const;
@@ -51,6 +71,9 @@ class Buffer {
   vk::raii::Buffer buffer_{nullptr};
   vk::raii::DeviceMemory device_memory_{nullptr};
   void* mapped_ = nullptr;
+  // Texel views by format, made on demand (the mutex: recording threads may share a buffer).
+  mutable std::unique_ptr<std::mutex> views_mutex_ = std::make_unique<std::mutex>();
+  mutable std::vector<std::pair<TexelFormat, vk::raii::BufferView>> views_;
 };
 
 }  // namespace omnisweep::gpu

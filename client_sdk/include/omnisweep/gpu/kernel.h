@@ -1,6 +1,6 @@
 // One compute kernel: a pipeline built from embedded SPIR-V (shaders/<name>.comp), with storage
-// buffer bindings (each binding may be an array of buffers), then storage image bindings, push
-// constants and specialization constants. Workgroup sizes are specialization constants 100, 101,
+// buffer bindings (each binding may be an array of buffers), then storage image bindings, then
+// uniform texel buffer bindings, push constants and specialization constants. Workgroup sizes are specialization constants 100, 101,
 // 102 (local_size_x_id etc. in the shader), so the host always knows them.
 #pragma once
 
@@ -34,6 +34,8 @@ struct KernelLayout {
   std::vector<std::uint32_t> bindings;
   // Storage images, one per binding, at the binding numbers after the buffers.
   std::uint32_t storage_images = 0;
+  // Uniform texel buffers (read with texelFetch), one per binding, after the storage images.
+  std::uint32_t texel_buffers = 0;
   std::uint32_t push_constant_bytes = 0;
   std::array<std::uint32_t, 3> local_size = {8, 8, 1};
   std::vector<SpecConstant> constants;

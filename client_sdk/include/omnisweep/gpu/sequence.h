@@ -11,6 +11,7 @@
 #pragma once
 
 #include <array>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -21,15 +22,23 @@
 
 namespace omnisweep::gpu {
 
-// A binding: one buffer, an array of buffers for bindings declared with a count > 1, or a
-// storage image.
+// A buffer read as a uniform texel buffer (Buffer::texel_view).
+struct Texels {
+  const Buffer* buffer;
+  TexelFormat format;
+};
+
+// A binding: one buffer, an array of buffers for bindings declared with a count > 1, a storage
+// image, or a texel buffer.
 struct Binding {
   std::vector<const Buffer*> buffers;
   const Image* image = nullptr;
+  std::optional<Texels> texels;
   Binding(const Buffer* buffer) : buffers{buffer} {}   // NOLINT: implicit for brace lists
   Binding(const Buffer& buffer) : buffers{&buffer} {}  // NOLINT
   Binding(std::vector<const Buffer*> list) : buffers(std::move(list)) {}  // NOLINT
   Binding(const Image& storage_image) : image(&storage_image) {}          // NOLINT
+  Binding(Texels texel_buffer) : texels(texel_buffer) {}                  // NOLINT
 };
 
 class Sequence {
@@ -41,7 +50,7 @@ class Sequence {
   void begin();
 
   // Binds `bindings` in order (binding i gets bindings[i]: the kernel's buffers, then its
-  // images), pushes `push` and dispatches.
+  // images, then its texel buffers), pushes `push` and dispatches.
   // Throws GpuError when a binding does not match the kernel's layout or exceeds the device's
   // maxStorageBufferRange.
   void dispatch(const Kernel& kernel, const std::vector<Binding>& bindings, const void* push,

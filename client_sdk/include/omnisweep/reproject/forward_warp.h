@@ -93,6 +93,7 @@ class ForwardWarper {
   int run_until_filled(gpu::Sequence& seq, const gpu::Kernel& kernel, gpu::Buffer* buffers,
                        int max_passes, int batch, double* gpu_ms, int* current);
 
+  gpu::Context* context_;
   GpuCamera source_;
   GpuCamera target_;
   WarpOptions options_;
@@ -105,6 +106,8 @@ class ForwardWarper {
   int colour_result_ = 0;   // which of colour_buffers_ holds the colour result
   std::uint32_t tile_ = 32;  // inpainting tile side (inpaint_tile.glsl), to fit shared memory
   std::vector<gpu::Buffer> colour_buffers_;  // ping-pong colours (WarpOptions::colour only)
+  // warp_, directions_kernel_ and sample_colour_ are compiled for the source's and the target's
+  // camera models (model_constants), and again when set_target changes the target's model.
   gpu::Kernel warp_;
   gpu::Kernel directions_kernel_;
   gpu::Kernel inpaint_;

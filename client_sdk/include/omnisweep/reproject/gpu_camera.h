@@ -6,16 +6,28 @@
 #include <span>
 #include <vector>
 
+#include "omnisweep/gpu/kernel.h"
 #include "omnisweep/image/image.h"
+#include "omnisweep/reproject/camera_model_ids.h"
 #include "omnisweep/rig/rig.h"
 
 namespace omnisweep::reproject {
+
+// GpuCamera::model, as the kernels number the models (camera_model_ids.h).
+enum class GpuModel : std::uint32_t {
+  kDoubleSphere = OMNISWEEP_MODEL_DOUBLE_SPHERE,
+  kKannalaBrandt = OMNISWEEP_MODEL_KANNALA_BRANDT,
+  kExtendedUnified = OMNISWEEP_MODEL_EXTENDED_UNIFIED,
+  kPinhole = OMNISWEEP_MODEL_PINHOLE,
+  kEquirectangular = OMNISWEEP_MODEL_EQUIRECTANGULAR,
+  kAny = OMNISWEEP_MODEL_ANY,  // a role whose cameras differ (model_constants)
+};
 
 struct GpuCamera {
   float focal_center[4];  // fx, fy, cx, cy
   float extra[4];         // model parameters after the first four
   float rows[3][4];       // cam_from_ref: rotation rows | translation
-  std::uint32_t model;    // 0 ds, 1 kb4, 2 eucm, 3 pinhole, 4 equirectangular
+  std::uint32_t model;    // a GpuModel
   float cos_max;
   std::uint32_t width;
   std::uint32_t height;
@@ -35,5 +47,14 @@ GpuCamera pack_camera(const CameraModel<double>& model, int width, int height,
                       const Rigid3d& cam_from_ref);
 // An equirectangular panorama of width x height, axes given by cam_from_ref.
 GpuCamera pack_equirectangular(int width, int height, const Rigid3d& cam_from_ref);
+
+// The model all of `cameras` share, or GpuModel::kAny when they differ (or there are none).
+GpuModel common_model(std::span<const GpuCamera> cameras);
+GpuModel common_model(const Rig& rig);
+
+// The specialization constants of a camera kernel (shaders/include/camera.glsl): the model of
+// its source cameras (the rig's) and of its targets. A fixed model compiles that model's code
+// only; kAny keeps every model, chosen per camera at run time.
+std::vector<gpu::SpecConstant> model_constants(GpuModel source, GpuModel target = GpuModel::kAny);
 
 }  // namespace omnisweep::reproject
