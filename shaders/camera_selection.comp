@@ -9,14 +9,16 @@ layout(local_size_x_id = 100, local_size_y_id = 101, local_size_z_id = 102) in;
 #include "camera.glsl"
 #include "pixels.glsl"
 
+// Per reference slot: num_cameras records, the reference's frame to each camera's.
 layout(std430, set = 0, binding = 0) readonly buffer Cameras { Camera cameras[]; };
 layout(std430, set = 0, binding = 1) readonly buffer Masks { uint masks[]; };  // bytes, camera-major
-layout(std430, set = 0, binding = 2) writeonly buffer Selection { int selection[]; };
+layout(std430, set = 0, binding = 2) writeonly buffer Selection { int selection[]; };  // per slot
 layout(push_constant) uniform Push {
   uint width;
   uint height;
   uint num_cameras;
   uint reference;
+  uint slot;  // where this reference's cameras and selection map are
   float d_min;
   float d_max;
 } push;
@@ -34,12 +36,15 @@ void main() {
   int best = -1;
   float best_displacement = 1.0;  // must exceed one pixel
   vec3 ray;
-  if (usable(push.reference, vec2(p)) && unproject_source(cameras[push.reference], vec2(p), ray)) {
+  const uint records = push.slot * push.num_cameras;
+  if (usable(push.reference, vec2(p)) &&
+      unproject_source(cameras[records + push.reference], vec2(p), ray)) {
     for (uint c = 0u; c < push.num_cameras; ++c) {
       if (c == push.reference) continue;
+      const Camera cam = cameras[records + c];
       vec2 near_uv, far_uv;
-      if (!project_source(cameras[c], to_camera(cameras[c], ray * push.d_min), near_uv)) continue;
-      if (!project_source(cameras[c], to_camera(cameras[c], ray * push.d_max), far_uv)) continue;
+      if (!project_source(cam, to_camera(cam, ray * push.d_min), near_uv)) continue;
+      if (!project_source(cam, to_camera(cam, ray * push.d_max), far_uv)) continue;
       if (!usable(c, near_uv) || !usable(c, far_uv)) continue;
       const float displacement = distance(near_uv, far_uv);
       if (displacement > best_displacement) {
@@ -48,5 +53,5 @@ void main() {
       }
     }
   }
-  selection[p.y * push.width + p.x] = best;
+  selection[(push.slot * push.height + p.y) * push.width + p.x] = best;
 }

@@ -11,28 +11,32 @@
 // spanned by where its right and lower neighbours at the same distance land (so footprints of
 // neighbouring pixels leave no cracks), at most max_splat pixels wide. The nearest pixel
 // is always covered, so max_splat <= 1 is exactly the paper's warp.
+//
+// z is the layer (forward_warp.h): cameras 2z and 2z + 1, and plane z of the distance maps and
+// of the z-buffer.
 layout(local_size_x_id = 100, local_size_y_id = 101, local_size_z_id = 102) in;
 
 #include "camera.glsl"
 
-layout(std430, set = 0, binding = 0) readonly buffer Cameras { Camera cameras[]; };  // source, target
+layout(std430, set = 0, binding = 0) readonly buffer Cameras { Camera cameras[]; };  // source, target per layer
 layout(std430, set = 0, binding = 1) readonly buffer Distance { float distance_map[]; };
 layout(std430, set = 0, binding = 2) buffer ZBuffer { uint zbuffer[]; };
 layout(push_constant) uniform Push {
   float max_splat;
 } push;
 
-void write_min(Camera target, ivec2 q, uint bits) {
+void write_min(Camera target, uint layer, ivec2 q, uint bits) {
   if (model_of(target, kTargetModel) == kModelEquirectangular) q.x = (q.x % int(target.width) + int(target.width)) % int(target.width);
   if (q.x < 0 || q.y < 0 || q.x >= int(target.width) || q.y >= int(target.height)) return;
-  atomicMin(zbuffer[uint(q.y) * target.width + uint(q.x)], bits);
+  atomicMin(zbuffer[(layer * target.height + uint(q.y)) * target.width + uint(q.x)], bits);
 }
 
 void main() {
-  const Camera source = cameras[0], target = cameras[1];
+  const uint layer = gl_GlobalInvocationID.z;
+  const Camera source = cameras[2u * layer], target = cameras[2u * layer + 1u];
   const uvec2 p = gl_GlobalInvocationID.xy;
   if (p.x >= source.width || p.y >= source.height) return;
-  const float d = distance_map[p.y * source.width + p.x];
+  const float d = distance_map[(layer * source.height + p.y) * source.width + p.x];
   vec3 ray;
   if (!(d > 0.0) || isinf(d) || !unproject_source(source, vec2(p), ray)) return;
   const vec3 x = to_camera(target, d * ray);
@@ -41,7 +45,7 @@ void main() {
   const uint bits = floatBitsToUint(length(x));
   const ivec2 nearest = ivec2(floor(uv + 0.5));
   if (push.max_splat <= 1.0) {
-    write_min(target, nearest, bits);
+    write_min(target, layer, nearest, bits);
     return;
   }
   vec2 half_extent = vec2(0.0);
@@ -60,6 +64,6 @@ void main() {
   const ivec2 lo = min(ivec2(ceil(uv - half_extent)), nearest);
   const ivec2 hi = max(ivec2(floor(uv + half_extent)), nearest);
   for (int y = lo.y; y <= hi.y; ++y) {
-    for (int x_ = lo.x; x_ <= hi.x; ++x_) write_min(target, ivec2(x_, y), bits);
+    for (int x_ = lo.x; x_ <= hi.x; ++x_) write_min(target, layer, ivec2(x_, y), bits);
   }
 }

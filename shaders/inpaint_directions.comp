@@ -4,6 +4,7 @@
 // target pixel q with ray rho (taken in the source's axes), v = project(d_max rho) -
 // project(d_min rho) in the target is where the background lies. Of the 8 neighbours, the two
 // whose unit offset has the largest positive dot product with v / |v| are kept, weighted by it.
+// z is the layer (forward_warp.h): target camera 2z + 1, plane z of `directions`.
 layout(local_size_x_id = 100, local_size_y_id = 101, local_size_z_id = 102) in;
 
 #include "camera.glsl"
@@ -17,7 +18,8 @@ layout(push_constant) uniform Push {
 } push;
 
 void main() {
-  const Camera target = cameras[1];
+  const uint layer = gl_GlobalInvocationID.z;
+  const Camera target = cameras[2u * layer + 1u];
   const uvec2 q = gl_GlobalInvocationID.xy;
   if (q.x >= target.width || q.y >= target.height) return;
   Direction result = Direction(0xffffu, 0.0, 0.0, 0u);
@@ -50,5 +52,5 @@ void main() {
       result = Direction(code0 | (code1 << 8), best0, best1, 0u);
     }
   }
-  directions[q.y * target.width + q.x] = result;
+  directions[(layer * target.height + q.y) * target.width + q.x] = result;
 }

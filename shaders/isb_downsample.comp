@@ -6,16 +6,17 @@
 // Inter-scale bilateral filter, down pass (ALGORITHM.md §4): coarse pixel (x, y) gathers the
 // 3x3 neighbourhood of fine pixel (2x, 2y) (indices clamped) with spatial weights 1 / 0.5 / 0.25
 // (centre / edge / corner), each off-centre weight times exp(-g^2 / (2 sigma_I^2)) + 0.01. The
-// coarse guide (rounded to 8 bits) and every channel are the normalised weighted sums.
+// coarse guide (rounded to 8 bits) and every channel are the normalised weighted sums. z is the
+// slot (volume.glsl); the fine guide of slot z is plane fine_guide_first + z of its buffer.
 layout(local_size_x_id = 100, local_size_y_id = 101, local_size_z_id = 102) in;
 
 #include "pixels.glsl"
 #include "isb_weights.glsl"
 #include "volume.glsl"
 
-layout(std430, set = 0, binding = 0) readonly buffer FineGuide { uint fine_guide[]; };
+layout(set = 0, binding = 0) uniform usamplerBuffer fine_guide;
 layout(std430, set = 0, binding = 1) writeonly buffer CoarseGuide { uint coarse_guide[]; };
-layout(std430, set = 0, binding = 2) readonly buffer Fine { VOLUME_T v[]; } fine[kMaxChunks];
+layout(set = 0, binding = 2) uniform samplerBuffer fine[kMaxChunks];
 layout(std430, set = 0, binding = 3) writeonly buffer Coarse { VOLUME_T v[]; } coarse[kMaxChunks];
 layout(push_constant) uniform Push {
   uint fine_width;
@@ -23,39 +24,61 @@ layout(push_constant) uniform Push {
   uint coarse_width;
   uint coarse_height;
   float inv_two_sigma_sq;
+  uint fine_guide_first;
 } push;
 
+// Fine pixel n(dx, dy) of the 3x3 block around (2x, 2y) is nb (dy + 1) * 3 + dx + 1, summed in
+// that order. Written out with scalars (no arrays): a CPU device keeps arrays indexed in loops
+// in memory, per lane.
+#define DOWN_WEIGHT(g, s) ((s) * range_weight(centre_guide, g, push.inv_two_sigma_sq))
+
 void main() {
-  const uvec2 p = gl_GlobalInvocationID.xy;
+  const uvec3 p = gl_GlobalInvocationID;
   if (p.x >= push.coarse_width || p.y >= push.coarse_height) return;
-  const ivec2 centre = 2 * ivec2(p);
-  const ivec2 last = ivec2(push.fine_width, push.fine_height) - 1;
-  const uint centre_guide = fine_guide[uint(centre.y) * push.fine_width + uint(centre.x)];
-  uint index[9];
-  float weight[9];
-  float total = 0.0;
-  vec3 guide_sum = vec3(0.0);
-  for (int j = 0; j < 9; ++j) {
-    const ivec2 offset = ivec2(j % 3 - 1, j / 3 - 1);
-    const ivec2 q = clamp(centre + offset, ivec2(0), last);
-    index[j] = uint(q.y) * push.fine_width + uint(q.x);
-    const uint g = fine_guide[index[j]];
-    const int manhattan = abs(offset.x) + abs(offset.y);
-    weight[j] = manhattan == 0 ? 1.0 : (manhattan == 1 ? 0.5 : 0.25) * range_weight(centre_guide, g, push.inv_two_sigma_sq);
-    total += weight[j];
-    guide_sum += weight[j] * unpack_rgb(g);
-  }
-  const uint out_index = p.y * push.coarse_width + p.x;
-  coarse_guide[out_index] = round_guide(guide_sum / total);
-  const float inv_total = 1.0 / total;
+  const uint slot = p.z;
   const uint fine_plane = push.fine_width * push.fine_height;
   const uint coarse_plane = push.coarse_width * push.coarse_height;
-  for (uint chunk = 0u; chunk < kChunks; ++chunk) {
-    for (uint k = 0u; k < kChannels; ++k) {
-      float sum = 0.0;
-      for (int j = 0; j < 9; ++j)
-        sum += weight[j] * float(fine[chunk].v[k * fine_plane + index[j]]);
-      coarse[chunk].v[k * coarse_plane + out_index] = VOLUME_T(sum * inv_total);
-    }
+  const int guide_base = int((push.fine_guide_first + slot) * fine_plane);
+  const int fw = int(push.fine_width);
+  const int cx = 2 * int(p.x), cy = 2 * int(p.y);
+  const int x0 = max(cx - 1, 0), x1 = min(cx, fw - 1), x2 = min(cx + 1, fw - 1);
+  const int y0 = max(cy - 1, 0), y1 = min(cy, int(push.fine_height) - 1),
+            y2 = min(cy + 1, int(push.fine_height) - 1);
+  const int i0 = y0 * fw + x0, i1 = y0 * fw + x1, i2 = y0 * fw + x2;
+  const int i3 = y1 * fw + x0, i4 = y1 * fw + x1, i5 = y1 * fw + x2;
+  const int i6 = y2 * fw + x0, i7 = y2 * fw + x1, i8 = y2 * fw + x2;
+  const uint g0 = texelFetch(fine_guide, guide_base + i0).x, g1 = texelFetch(fine_guide, guide_base + i1).x,
+             g2 = texelFetch(fine_guide, guide_base + i2).x, g3 = texelFetch(fine_guide, guide_base + i3).x,
+             g4 = texelFetch(fine_guide, guide_base + i4).x, g5 = texelFetch(fine_guide, guide_base + i5).x,
+             g6 = texelFetch(fine_guide, guide_base + i6).x, g7 = texelFetch(fine_guide, guide_base + i7).x,
+             g8 = texelFetch(fine_guide, guide_base + i8).x;
+  const uint centre_guide = g4;
+  const float w0 = DOWN_WEIGHT(g0, 0.25), w1 = DOWN_WEIGHT(g1, 0.5), w2 = DOWN_WEIGHT(g2, 0.25),
+              w3 = DOWN_WEIGHT(g3, 0.5), w4 = 1.0, w5 = DOWN_WEIGHT(g5, 0.5),
+              w6 = DOWN_WEIGHT(g6, 0.25), w7 = DOWN_WEIGHT(g7, 0.5), w8 = DOWN_WEIGHT(g8, 0.25);
+  float total = 0.0;
+  vec3 guide_sum = vec3(0.0);
+#define DOWN_ADD(w, g)   \
+  total += w;            \
+  guide_sum += w * unpack_rgb(g);
+  DOWN_ADD(w0, g0) DOWN_ADD(w1, g1) DOWN_ADD(w2, g2) DOWN_ADD(w3, g3) DOWN_ADD(w4, g4)
+  DOWN_ADD(w5, g5) DOWN_ADD(w6, g6) DOWN_ADD(w7, g7) DOWN_ADD(w8, g8)
+  const uint out_index = p.y * push.coarse_width + p.x;
+  coarse_guide[slot * coarse_plane + out_index] = round_guide(guide_sum / total);
+  const float inv_total = 1.0 / total;
+// Every channel of chunk c (a literal: texel arrays take constant indices, volume.glsl).
+#define DOWN_CHUNK(c)                                                                          \
+  if (uint(c) < kChunks) {                                                                     \
+    for (uint k = 0u; k < kChannels; ++k) {                                                    \
+      const int b = int(volume_index(slot, k, fine_plane, 0u));                                \
+      float sum = 0.0;                                                                         \
+      sum += w0 * texelFetch(fine[c], b + i0).x; sum += w1 * texelFetch(fine[c], b + i1).x;    \
+      sum += w2 * texelFetch(fine[c], b + i2).x; sum += w3 * texelFetch(fine[c], b + i3).x;    \
+      sum += w4 * texelFetch(fine[c], b + i4).x; sum += w5 * texelFetch(fine[c], b + i5).x;    \
+      sum += w6 * texelFetch(fine[c], b + i6).x; sum += w7 * texelFetch(fine[c], b + i7).x;    \
+      sum += w8 * texelFetch(fine[c], b + i8).x;                                               \
+      coarse[c].v[volume_index(slot, k, coarse_plane, out_index)] = VOLUME_T(sum * inv_total); \
+    }                                                                                          \
   }
+  FOR_EACH_CHUNK(DOWN_CHUNK)
 }

@@ -8,10 +8,16 @@
 // w_k = w_down s_k (exp(-g_k^2 / (2 sigma_I^2)) + 0.01), w_down = exp(-(2^l - 0.5)^2 / (2 sigma_s^2)),
 // w_up = 1 - w_down. The coarse neighbours and spatial weights s_k depend on which child of its
 // coarse pixel (x, y) f is; coarse indices are clamped. The fine guide is updated with the same
-// weights. Each invocation reads and writes only its own fine pixel, so in place is safe.
+// weights. One invocation per coarse pixel computes its four children, so each coarse value is
+// fetched once for all four (13 fetches per channel for 4 pixels, not 29). Each invocation reads
+// and writes only its own children, so in place is safe (it reads through texel buffers and
+// writes through storage buffers bound to the same memory). Every child sums its terms in the
+// order of ALGORITHM.md's neighbour lists (and the CPU reference's). z is the slot
+// (volume.glsl); the fine guide of slot z is plane fine_guide_first + z of its buffer.
 // With kWinnerTakesAll (the last pass of a cost volume's filter) the filtered costs are not
 // stored: each pixel's winner (wta.glsl) is written to `distance_map` instead, which saves the
-// winner-takes-all kernel a full read of the volume and this pass its write.
+// winner-takes-all kernel a full read of the volume and this pass its write; slot z's distances
+// are plane distance_first + z of `distance_map`.
 layout(local_size_x_id = 100, local_size_y_id = 101, local_size_z_id = 102) in;
 
 #include "pixels.glsl"
@@ -21,11 +27,13 @@ layout(local_size_x_id = 100, local_size_y_id = 101, local_size_z_id = 102) in;
 
 layout(constant_id = 2) const bool kWinnerTakesAll = false;
 
-layout(std430, set = 0, binding = 0) buffer FineGuide { uint fine_guide[]; };
-layout(std430, set = 0, binding = 1) readonly buffer CoarseGuide { uint coarse_guide[]; };
-layout(std430, set = 0, binding = 2) buffer Fine { VOLUME_T v[]; } fine[kMaxChunks];
-layout(std430, set = 0, binding = 3) readonly buffer Coarse { VOLUME_T v[]; } coarse[kMaxChunks];
+layout(std430, set = 0, binding = 0) writeonly buffer FineGuide { uint fine_guide[]; };
+layout(set = 0, binding = 1) uniform usamplerBuffer coarse_guide;
+layout(std430, set = 0, binding = 2) writeonly buffer Fine { VOLUME_T v[]; } fine[kMaxChunks];
+layout(set = 0, binding = 3) uniform samplerBuffer coarse[kMaxChunks];
 layout(std430, set = 0, binding = 4) writeonly buffer Distance { float distance_map[]; };
+layout(set = 0, binding = 5) uniform usamplerBuffer fine_guide_texels;  // binding 0's buffer
+layout(set = 0, binding = 6) uniform samplerBuffer fine_texels[kMaxChunks];  // binding 2's
 layout(push_constant) uniform Push {
   uint fine_width;
   uint fine_height;
@@ -33,87 +41,135 @@ layout(push_constant) uniform Push {
   uint coarse_height;
   float inv_two_sigma_sq;
   float w_down;
+  uint fine_guide_first;
   // kWinnerTakesAll only:
   uint num_candidates;
   float inv_d_min;
   float inv_d_max;
   float d_max;
+  uint distance_first;
 } push;
 
+// The children of a coarse pixel (2x, 2y), (2x + 1, 2y), (2x, 2y + 1), (2x + 1, 2y + 1) are
+// children 0-3. Coarse neighbour n(dx, dy) of the 3x3 block around the coarse pixel is nb
+// (dy + 1) * 3 + dx + 1. Each child blends, in this order (ALGORITHM.md §4, spatial weight in
+// brackets):
+//   child 0: nb 0-8 [1, 1, 1, 1, 8, 1, 1, 1, 1]        child 1: nb 4, 5, 1, 2, 7, 8 [8, 8, 1, 1, 1, 1]
+//   child 2: nb 4, 7, 3, 6, 5, 8 [8, 8, 1, 1, 1, 1]    child 3: nb 4, 5, 7, 8 [1, 1, 1, 1]
+// Everything is written out with scalars (no arrays): a CPU device keeps arrays indexed in loops
+// in memory, per lane, which made this pass several times slower.
+
+// A child's weight for coarse neighbour guide g with spatial weight s.
+#define UP_WEIGHT(own, g, s) (push.w_down * (s) * range_weight(own, g, push.inv_two_sigma_sq))
+// Adds a neighbour's weight to a child's total and guide sum.
+#define UP_ADD(child, w, g)        \
+  total##child += w;               \
+  guide_sum##child += w * unpack_rgb(g);
+
 void main() {
-  const uvec2 f = gl_GlobalInvocationID.xy;
-  if (f.x >= push.fine_width || f.y >= push.fine_height) return;
-  const ivec2 c = ivec2(f >> 1);
-  const uvec2 child = f & 1u;
-  // Neighbour offsets (relative to the coarse pixel) and spatial weights per child.
-  ivec2 offsets[9];
-  float spatial[9];
-  int count = 0;
-  if (child.x == 0u && child.y == 0u) {  // (2x, 2y): the 3x3 block, 8 at the centre
-    for (int j = 0; j < 9; ++j) {
-      offsets[j] = ivec2(j % 3 - 1, j / 3 - 1);
-      spatial[j] = j == 4 ? 8.0 : 1.0;
-    }
-    count = 9;
-  } else if (child.x == 0u) {  // (2x, 2y + 1)
-    offsets[0] = ivec2(0, 0); offsets[1] = ivec2(0, 1);
-    offsets[2] = ivec2(-1, 0); offsets[3] = ivec2(-1, 1); offsets[4] = ivec2(1, 0); offsets[5] = ivec2(1, 1);
-    spatial[0] = 8.0; spatial[1] = 8.0;
-    spatial[2] = 1.0; spatial[3] = 1.0; spatial[4] = 1.0; spatial[5] = 1.0;
-    count = 6;
-  } else if (child.y == 0u) {  // (2x + 1, 2y)
-    offsets[0] = ivec2(0, 0); offsets[1] = ivec2(1, 0);
-    offsets[2] = ivec2(0, -1); offsets[3] = ivec2(1, -1); offsets[4] = ivec2(0, 1); offsets[5] = ivec2(1, 1);
-    spatial[0] = 8.0; spatial[1] = 8.0;
-    spatial[2] = 1.0; spatial[3] = 1.0; spatial[4] = 1.0; spatial[5] = 1.0;
-    count = 6;
-  } else {  // (2x + 1, 2y + 1)
-    offsets[0] = ivec2(0, 0); offsets[1] = ivec2(1, 0); offsets[2] = ivec2(0, 1); offsets[3] = ivec2(1, 1);
-    spatial[0] = 1.0; spatial[1] = 1.0; spatial[2] = 1.0; spatial[3] = 1.0;
-    count = 4;
-  }
-  const uint fine_index = f.y * push.fine_width + f.x;
-  const uint own_guide = fine_guide[fine_index];
-  const ivec2 last = ivec2(push.coarse_width, push.coarse_height) - 1;
-  const float w_up = 1.0 - push.w_down;
-  uint index[9];
-  float weight[9];
-  float total = w_up;
-  vec3 guide_sum = w_up * unpack_rgb(own_guide);
-  for (int j = 0; j < count; ++j) {
-    const ivec2 q = clamp(c + offsets[j], ivec2(0), last);
-    index[j] = uint(q.y) * push.coarse_width + uint(q.x);
-    const uint g = coarse_guide[index[j]];
-    weight[j] = push.w_down * spatial[j] * range_weight(own_guide, g, push.inv_two_sigma_sq);
-    total += weight[j];
-    guide_sum += weight[j] * unpack_rgb(g);
-  }
-  const float inv_total = 1.0 / total;
+  const uvec2 cp = gl_GlobalInvocationID.xy;
+  const uint slot = gl_GlobalInvocationID.z;
+  if (cp.x >= push.coarse_width || cp.y >= push.coarse_height) return;
   const uint fine_plane = push.fine_width * push.fine_height;
   const uint coarse_plane = push.coarse_width * push.coarse_height;
-  Wta wta;
-  for (uint chunk = 0u; chunk < kChunks; ++chunk) {
-    for (uint k = 0u; k < kChannels; ++k) {
-      float sum = w_up * float(fine[chunk].v[k * fine_plane + fine_index]);
-      for (int j = 0; j < count; ++j)
-        sum += weight[j] * float(coarse[chunk].v[k * coarse_plane + index[j]]);
-      const float filtered = sum * inv_total;
-      if (!kWinnerTakesAll) {
-        fine[chunk].v[k * fine_plane + fine_index] = VOLUME_T(filtered);
-        continue;
-      }
-      const uint i = chunk * kChannels + k;
-      if (i == 0u) {
-        wta = wta_start(filtered);
-      } else if (i < push.num_candidates) {
-        wta_step(wta, i, filtered);
-      }
-    }
+  const int x0 = max(int(cp.x) - 1, 0), x1 = int(cp.x), x2 = min(int(cp.x) + 1, int(push.coarse_width) - 1);
+  const int y0 = max(int(cp.y) - 1, 0), y1 = int(cp.y), y2 = min(int(cp.y) + 1, int(push.coarse_height) - 1);
+  const int cw = int(push.coarse_width);
+  const int i0 = y0 * cw + x0, i1 = y0 * cw + x1, i2 = y0 * cw + x2;
+  const int i3 = y1 * cw + x0, i4 = y1 * cw + x1, i5 = y1 * cw + x2;
+  const int i6 = y2 * cw + x0, i7 = y2 * cw + x1, i8 = y2 * cw + x2;
+  const int gb = int(slot * coarse_plane);
+  const uint g0 = texelFetch(coarse_guide, gb + i0).x, g1 = texelFetch(coarse_guide, gb + i1).x,
+             g2 = texelFetch(coarse_guide, gb + i2).x, g3 = texelFetch(coarse_guide, gb + i3).x,
+             g4 = texelFetch(coarse_guide, gb + i4).x, g5 = texelFetch(coarse_guide, gb + i5).x,
+             g6 = texelFetch(coarse_guide, gb + i6).x, g7 = texelFetch(coarse_guide, gb + i7).x,
+             g8 = texelFetch(coarse_guide, gb + i8).x;
+
+  // The children: inside the fine level (odd sizes leave the last column or row out), their
+  // index in the plane and their own guides.
+  const uvec2 f0 = 2u * cp;
+  const bool right = f0.x + 1u < push.fine_width, below = f0.y + 1u < push.fine_height;
+  const bool inside0 = true, inside1 = right, inside2 = below, inside3 = right && below;
+  const uint fine0 = f0.y * push.fine_width + f0.x;
+  const uint fine1 = right ? fine0 + 1u : fine0, fine2 = below ? fine0 + push.fine_width : fine0;
+  const uint fine3 = right && below ? fine0 + push.fine_width + 1u : fine0;
+  const uint guide_base = (push.fine_guide_first + slot) * fine_plane;
+  const uint own0 = texelFetch(fine_guide_texels, int(guide_base + fine0)).x;
+  const uint own1 = texelFetch(fine_guide_texels, int(guide_base + fine1)).x;
+  const uint own2 = texelFetch(fine_guide_texels, int(guide_base + fine2)).x;
+  const uint own3 = texelFetch(fine_guide_texels, int(guide_base + fine3)).x;
+
+  const float w_up = 1.0 - push.w_down;
+  float total0 = w_up, total1 = w_up, total2 = w_up, total3 = w_up;
+  vec3 guide_sum0 = w_up * unpack_rgb(own0), guide_sum1 = w_up * unpack_rgb(own1);
+  vec3 guide_sum2 = w_up * unpack_rgb(own2), guide_sum3 = w_up * unpack_rgb(own3);
+  const float wa0 = UP_WEIGHT(own0, g0, 1.0), wa1 = UP_WEIGHT(own0, g1, 1.0), wa2 = UP_WEIGHT(own0, g2, 1.0),
+              wa3 = UP_WEIGHT(own0, g3, 1.0), wa4 = UP_WEIGHT(own0, g4, 8.0), wa5 = UP_WEIGHT(own0, g5, 1.0),
+              wa6 = UP_WEIGHT(own0, g6, 1.0), wa7 = UP_WEIGHT(own0, g7, 1.0), wa8 = UP_WEIGHT(own0, g8, 1.0);
+  UP_ADD(0, wa0, g0) UP_ADD(0, wa1, g1) UP_ADD(0, wa2, g2) UP_ADD(0, wa3, g3) UP_ADD(0, wa4, g4)
+  UP_ADD(0, wa5, g5) UP_ADD(0, wa6, g6) UP_ADD(0, wa7, g7) UP_ADD(0, wa8, g8)
+  const float wb0 = UP_WEIGHT(own1, g4, 8.0), wb1 = UP_WEIGHT(own1, g5, 8.0), wb2 = UP_WEIGHT(own1, g1, 1.0),
+              wb3 = UP_WEIGHT(own1, g2, 1.0), wb4 = UP_WEIGHT(own1, g7, 1.0), wb5 = UP_WEIGHT(own1, g8, 1.0);
+  UP_ADD(1, wb0, g4) UP_ADD(1, wb1, g5) UP_ADD(1, wb2, g1) UP_ADD(1, wb3, g2) UP_ADD(1, wb4, g7)
+  UP_ADD(1, wb5, g8)
+  const float wc0 = UP_WEIGHT(own2, g4, 8.0), wc1 = UP_WEIGHT(own2, g7, 8.0), wc2 = UP_WEIGHT(own2, g3, 1.0),
+              wc3 = UP_WEIGHT(own2, g6, 1.0), wc4 = UP_WEIGHT(own2, g5, 1.0), wc5 = UP_WEIGHT(own2, g8, 1.0);
+  UP_ADD(2, wc0, g4) UP_ADD(2, wc1, g7) UP_ADD(2, wc2, g3) UP_ADD(2, wc3, g6) UP_ADD(2, wc4, g5)
+  UP_ADD(2, wc5, g8)
+  const float wd0 = UP_WEIGHT(own3, g4, 1.0), wd1 = UP_WEIGHT(own3, g5, 1.0), wd2 = UP_WEIGHT(own3, g7, 1.0),
+              wd3 = UP_WEIGHT(own3, g8, 1.0);
+  UP_ADD(3, wd0, g4) UP_ADD(3, wd1, g5) UP_ADD(3, wd2, g7) UP_ADD(3, wd3, g8)
+  const float inv0 = 1.0 / total0, inv1 = 1.0 / total1, inv2 = 1.0 / total2, inv3 = 1.0 / total3;
+
+  Wta wta0, wta1, wta2, wta3;
+// One child's filtered value of the channel: stored in place, or into its winner.
+#define UP_STORE(chunk, child, filtered)                                                 \
+  if (inside##child) {                                                            \
+    if (!kWinnerTakesAll) {                                                       \
+      fine[chunk].v[volume_index(slot, k, fine_plane, fine##child)] = VOLUME_T(filtered); \
+    } else if (i == 0u) {                                                         \
+      wta##child = wta_start(filtered);                                           \
+    } else if (i < push.num_candidates) {                                         \
+      wta_step(wta##child, i, filtered);                                          \
+    }                                                                             \
   }
-  if (kWinnerTakesAll) {
-    distance_map[fine_index] =
-        wta_distance(wta, push.num_candidates, push.inv_d_min, push.inv_d_max, push.d_max);
-    return;  // the guide is not needed after the last pass
+// Every channel of chunk c (a literal: texel arrays take constant indices, volume.glsl).
+#define UP_CHUNK(c)                                                                           \
+  if (uint(c) < kChunks) {                                                                    \
+    for (uint k = 0u; k < kChannels; ++k) {                                                   \
+      const uint i = uint(c) * kChannels + k;                                                 \
+      const int cb = int(volume_index(slot, k, coarse_plane, 0u));                            \
+      const int fb = int(volume_index(slot, k, fine_plane, 0u));                              \
+      const float n0 = texelFetch(coarse[c], cb + i0).x, n1 = texelFetch(coarse[c], cb + i1).x, \
+                  n2 = texelFetch(coarse[c], cb + i2).x, n3 = texelFetch(coarse[c], cb + i3).x, \
+                  n4 = texelFetch(coarse[c], cb + i4).x, n5 = texelFetch(coarse[c], cb + i5).x, \
+                  n6 = texelFetch(coarse[c], cb + i6).x, n7 = texelFetch(coarse[c], cb + i7).x, \
+                  n8 = texelFetch(coarse[c], cb + i8).x;                                      \
+      float s0 = w_up * texelFetch(fine_texels[c], fb + int(fine0)).x;                       \
+      s0 += wa0 * n0; s0 += wa1 * n1; s0 += wa2 * n2; s0 += wa3 * n3; s0 += wa4 * n4;             \
+      s0 += wa5 * n5; s0 += wa6 * n6; s0 += wa7 * n7; s0 += wa8 * n8;                            \
+      float s1 = w_up * texelFetch(fine_texels[c], fb + int(fine1)).x;                       \
+      s1 += wb0 * n4; s1 += wb1 * n5; s1 += wb2 * n1; s1 += wb3 * n2; s1 += wb4 * n7; s1 += wb5 * n8; \
+      float s2 = w_up * texelFetch(fine_texels[c], fb + int(fine2)).x;                       \
+      s2 += wc0 * n4; s2 += wc1 * n7; s2 += wc2 * n3; s2 += wc3 * n6; s2 += wc4 * n5; s2 += wc5 * n8; \
+      float s3 = w_up * texelFetch(fine_texels[c], fb + int(fine3)).x;                       \
+      s3 += wd0 * n4; s3 += wd1 * n5; s3 += wd2 * n7; s3 += wd3 * n8;                            \
+      UP_STORE(c, 0, s0 * inv0) UP_STORE(c, 1, s1 * inv1) UP_STORE(c, 2, s2 * inv2)                   \
+      UP_STORE(c, 3, s3 * inv3)                                                               \
+    }                                                                                         \
   }
-  fine_guide[fine_index] = round_guide(guide_sum * inv_total);
+  FOR_EACH_CHUNK(UP_CHUNK)
+
+// One child's result: its winner's distance, or its smoothed guide (not needed after the last
+// pass, which is the one with the winner).
+#define UP_FINISH(child)                                                                  \
+  if (inside##child) {                                                                    \
+    if (kWinnerTakesAll) {                                                                \
+      distance_map[(push.distance_first + slot) * fine_plane + fine##child] = wta_distance( \
+          wta##child, push.num_candidates, push.inv_d_min, push.inv_d_max, push.d_max);   \
+    } else {                                                                              \
+      fine_guide[guide_base + fine##child] = round_guide(guide_sum##child * inv##child);  \
+    }                                                                                     \
+  }
+  UP_FINISH(0) UP_FINISH(1) UP_FINISH(2) UP_FINISH(3)
 }

@@ -1,17 +1,15 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
-#ifdef VOLUME_F16
-#extension GL_EXT_shader_16bit_storage : require
-#endif
 // Winner takes all with the parabola sub-candidate step (ALGORITHM.md §3 step 5) over a cost
 // volume (wta.glsl); the depth estimator fuses the same steps into the filter's last pass
-// instead, and uses this kernel for unfiltered volumes.
+// instead, and uses this kernel for unfiltered volumes. z is the volume's slot; its distance
+// map is plane first + z of `distance_map`.
 layout(local_size_x_id = 100, local_size_y_id = 101, local_size_z_id = 102) in;
 
 #include "volume.glsl"
 #include "wta.glsl"
 
-layout(std430, set = 0, binding = 0) readonly buffer Volume { VOLUME_T v[]; } volume[kMaxChunks];
+layout(set = 0, binding = 0) uniform samplerBuffer volume[kMaxChunks];
 layout(std430, set = 0, binding = 1) writeonly buffer Distance { float distance_map[]; };
 layout(push_constant) uniform Push {
   uint width;
@@ -20,17 +18,27 @@ layout(push_constant) uniform Push {
   float inv_d_min;
   float inv_d_max;
   float d_max;
+  uint first;
 } push;
 
+// The candidates of one chunk (past candidate 0) into `wta`.
+void wta_chunk(samplerBuffer chunk_texels, uint chunk, uint slot, uint plane, uint pixel,
+               inout Wta wta) {
+  for (uint k = 0u; k < kChannels; ++k) {
+    const uint i = chunk * kChannels + k;
+    if (i == 0u || i >= push.num_candidates) continue;
+    wta_step(wta, i, texelFetch(chunk_texels, int(volume_index(slot, k, plane, pixel))).x);
+  }
+}
+
 void main() {
-  const uvec2 p = gl_GlobalInvocationID.xy;
-  if (p.x >= push.width || p.y >= push.height) return;
-  const uint pixel = p.y * push.width + p.x;
-  // One pass in candidate order (uniform indices into the chunk array).
-  const uint plane = push.width * push.height;
-  Wta wta = wta_start(float(volume[0].v[pixel]));
-  for (uint i = 1u; i < push.num_candidates; ++i)
-    wta_step(wta, i, float(volume[i / kChannels].v[(i % kChannels) * plane + pixel]));
-  distance_map[pixel] =
+  const uvec3 g = gl_GlobalInvocationID;
+  if (g.x >= push.width || g.y >= push.height) return;
+  const uint plane = push.width * push.height, pixel = g.y * push.width + g.x;
+  // One pass in candidate order, chunk after chunk.
+  Wta wta = wta_start(texelFetch(volume[0], int(volume_index(g.z, 0u, plane, pixel))).x);
+#define WTA_CHUNK(c) if (uint(c) < kChunks) wta_chunk(volume[c], uint(c), g.z, plane, pixel, wta);
+  FOR_EACH_CHUNK(WTA_CHUNK)
+  distance_map[(push.first + g.z) * plane + pixel] =
       wta_distance(wta, push.num_candidates, push.inv_d_min, push.inv_d_max, push.d_max);
 }

@@ -125,12 +125,14 @@ TEST_F(DepthKernelTest, YCbCrGuideEqualsCpu) {
     packed[p] = rgb.data()[3 * p] | (rgb.data()[3 * p + 1] << 8) | (rgb.data()[3 * p + 2] << 16);
   gpu::Buffer images(context(), packed.size() * 4), guide(context(), packed.size() * 4);
   images.upload(std::span<const std::uint32_t>(packed));
-  const gpu::Kernel kernel(context(), "ycbcr_guide",
-                           {.bindings = {1, 1}, .push_constant_bytes = 12});
+  const gpu::Kernel kernel(
+      context(), "ycbcr_guide",
+      {.bindings = {gpu::BindingSlot::texels(), 1}, .push_constant_bytes = 4 * (2 + 8)});
   gpu::Sequence seq(context());
   seq.begin();
-  const std::uint32_t push[3] = {w, h, 0};
-  seq.dispatch(kernel, {images, guide}, push, sizeof(push), kernel.groups_for(w, h));
+  const std::uint32_t push[2 + 8] = {w, h, 0};  // width, height, the camera of slot 0
+  seq.dispatch(kernel, {gpu::Texels(images, gpu::TexelFormat::kR32Uint), guide}, push,
+               sizeof(push), kernel.groups_for(w, h));
   seq.submit_and_wait();
   EXPECT_EQ(guide.download<std::uint32_t>(), ycbcr_guide_cpu(rgb));
 }

@@ -3,10 +3,11 @@
 #include <Eigen/Core>
 
 #include <algorithm>
+#include <stdexcept>
 
 namespace omnisweep::depth {
 
-gpu::KernelLayout volume_kernel_layout(std::vector<std::uint32_t> bindings,
+gpu::KernelLayout volume_kernel_layout(std::vector<gpu::BindingSlot> bindings,
                                        std::uint32_t push_bytes, VolumeLayout layout) {
   return {.bindings = std::move(bindings),
           .push_constant_bytes = push_bytes,
@@ -20,28 +21,34 @@ std::string volume_shader(const std::string& shader, VolumeLayout layout) {
 }
 
 VolumeLayout plan_volume(const gpu::Context& context, int width, int height, int channels,
-                         bool half) {
+                         bool half, int slots) {
   half = half && context.info().storage_16bit;
-  const std::uint64_t limit = context.info().max_storage_buffer_range;
-  const std::uint64_t pixel_bytes = std::uint64_t(width) * height * (half ? 2 : 4);
+  const std::uint64_t value_bytes = half ? 2 : 4;
+  // A chunk is bound as a storage buffer and read as a texel buffer: both limits hold.
+  const std::uint64_t limit = std::min<std::uint64_t>(
+      context.info().max_storage_buffer_range,
+      context.info().max_texel_buffer_elements * value_bytes);
+  const std::uint64_t pixel_bytes = std::uint64_t(width) * height * value_bytes * slots;
   int per_chunk = std::min(channels, kMaxChannelsPerChunk);
   while (per_chunk > 1 && pixel_bytes * per_chunk > limit) per_chunk = (per_chunk + 1) / 2;
   const int chunks = (channels + per_chunk - 1) / per_chunk;
   if (pixel_bytes * per_chunk > limit || chunks > kMaxChunks) {
-    throw gpu::GpuError(std::to_string(channels) + " channels at " + std::to_string(width) + "x" +
+    throw gpu::GpuError(std::to_string(channels) + " channels of " + std::to_string(slots) +
+                        " reference(s) at " + std::to_string(width) + "x" +
                         std::to_string(height) + " do not fit in " + std::to_string(kMaxChunks) +
                         " buffers of at most " + std::to_string(limit >> 20) +
-                        " MiB (maxStorageBufferRange of " + context.info().name +
+                        " MiB (maxStorageBufferRange and maxTexelBufferElements of " +
+                        context.info().name +
                         "); lower the matching resolution or the number of candidates");
   }
-  return {per_chunk, chunks, half};
+  return {per_chunk, chunks, half, slots};
 }
 
 CostVolume::CostVolume(gpu::Context& context, int width, int height, VolumeLayout layout)
     : width_(width), height_(height), layout_(layout) {
   for (int c = 0; c < layout.chunks; ++c) {
     chunks_.emplace_back(context, std::uint64_t(width) * height * layout.channels_per_chunk *
-                                      layout.value_bytes());
+                                      layout.slots * layout.value_bytes());
   }
 }
 
@@ -57,17 +64,24 @@ std::vector<const gpu::Buffer*> CostVolume::binding(const gpu::Buffer& dummy) co
   return out;
 }
 
-std::vector<float> CostVolume::download(int channels) const {
+gpu::Texels CostVolume::texels(const gpu::Buffer& dummy) const {
+  return gpu::Texels(binding(dummy), layout_.texel_format());
+}
+
+std::vector<float> CostVolume::download(int channels, int slot) const {
   const std::size_t pixels = std::size_t(width_) * height_;
   const int k = layout_.channels_per_chunk;
+  if (slot < 0 || slot >= layout_.slots) throw std::out_of_range("cost volume: no such slot");
+  const std::size_t slot_values = pixels * k, offset = slot_values * slot;
   std::vector<float> out(pixels * channels);
   for (int c = 0; c < layout_.chunks; ++c) {
-    std::vector<float> chunk;
+    std::vector<float> chunk(slot_values);
     if (layout_.half) {
-      const std::vector<Eigen::half> halves = chunks_[c].download<Eigen::half>();
+      std::vector<Eigen::half> halves(slot_values);
+      chunks_[c].download(halves.data(), slot_values * 2, offset * 2);
       chunk.assign(halves.begin(), halves.end());
     } else {
-      chunk = chunks_[c].download<float>();
+      chunks_[c].download(chunk.data(), slot_values * 4, offset * 4);
     }
     for (std::size_t p = 0; p < pixels; ++p) {
       for (int j = 0; j < k && c * k + j < channels; ++j)
@@ -77,9 +91,11 @@ std::vector<float> CostVolume::download(int channels) const {
   return out;
 }
 
-void CostVolume::upload(const std::vector<float>& values, int channels) {
+void CostVolume::upload(const std::vector<float>& values, int channels, int slot) {
   const std::size_t pixels = std::size_t(width_) * height_;
   const int k = layout_.channels_per_chunk;
+  if (slot < 0 || slot >= layout_.slots) throw std::out_of_range("cost volume: no such slot");
+  const std::size_t offset = pixels * k * slot;
   for (int c = 0; c < layout_.chunks; ++c) {
     std::vector<float> chunk(pixels * k, 0.0f);
     for (std::size_t p = 0; p < pixels; ++p) {
@@ -88,9 +104,9 @@ void CostVolume::upload(const std::vector<float>& values, int channels) {
     }
     if (layout_.half) {
       const std::vector<Eigen::half> halves(chunk.begin(), chunk.end());
-      chunks_[c].upload(std::span<const Eigen::half>(halves));
+      chunks_[c].upload(std::span<const Eigen::half>(halves), offset * 2);
     } else {
-      chunks_[c].upload(std::span<const float>(chunk));
+      chunks_[c].upload(std::span<const float>(chunk), offset * 4);
     }
   }
 }

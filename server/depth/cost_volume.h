@@ -1,7 +1,8 @@
-// A cost volume on the GPU: width x height pixels x `candidates` floats, split into chunks of
-// channels_per_chunk candidate planes so that no buffer exceeds the device's
-// maxStorageBufferRange (see shaders/include/volume.glsl). Also used for any multi-channel image
-// the ISB filter takes.
+// A cost volume on the GPU: width x height pixels x `candidates` floats for each of `slots`
+// reference cameras (one dispatch covers every slot, z = slot), split into chunks of
+// channels_per_chunk candidate planes (of every slot) so that no buffer exceeds the device's
+// maxStorageBufferRange or maxTexelBufferElements (see shaders/include/volume.glsl). Also used
+// for any multi-channel image the ISB filter takes (the distance maps: one channel).
 #pragma once
 
 #include <cstdint>
@@ -10,6 +11,7 @@
 
 #include "omnisweep/gpu/buffer.h"
 #include "omnisweep/gpu/kernel.h"
+#include "omnisweep/gpu/sequence.h"
 
 namespace omnisweep::depth {
 
@@ -21,25 +23,29 @@ struct VolumeLayout {
   int channels_per_chunk = 1;
   int chunks = 1;
   bool half = false;  // values stored as 16-bit floats (the *_f16 kernels)
+  int slots = 1;      // reference cameras side by side in every chunk
   int channels() const { return channels_per_chunk * chunks; }  // candidates plus padding
   std::uint64_t value_bytes() const { return half ? 2 : 4; }
+  gpu::TexelFormat texel_format() const {
+    return half ? gpu::TexelFormat::kR16Float : gpu::TexelFormat::kR32Float;
+  }
 };
 
 // The kernel of `shader` that stores volumes with `layout`: `shader`, or its 16-bit build
 // (shaders/CMakeLists.txt).
 std::string volume_shader(const std::string& shader, VolumeLayout layout);
 
-// The layout of a kernel that binds chunk arrays: `bindings` as in gpu::KernelLayout, 8x8
+// The layout of a kernel that binds chunk arrays: `bindings` as in gpu::KernelLayout, 8x8x1
 // workgroups, and the volume's channels per chunk and chunk count as specialization constants
 // 0 and 1 (shaders/include/volume.glsl).
-gpu::KernelLayout volume_kernel_layout(std::vector<std::uint32_t> bindings,
+gpu::KernelLayout volume_kernel_layout(std::vector<gpu::BindingSlot> bindings,
                                        std::uint32_t push_bytes, VolumeLayout layout);
 
-// The layout for `channels` channels at width x height on this device, 16-bit where `half` and
-// the device stores 16-bit floats; throws GpuError when even one channel per chunk needs more
-// than kMaxChunks chunks.
+// The layout for `channels` channels of `slots` references at width x height on this device,
+// 16-bit where `half` and the device stores 16-bit floats; throws GpuError when even one channel
+// per chunk needs more than kMaxChunks chunks.
 VolumeLayout plan_volume(const gpu::Context& context, int width, int height, int channels,
-                         bool half = false);
+                         bool half = false, int slots = 1);
 
 class CostVolume {
  public:
@@ -51,13 +57,15 @@ class CostVolume {
   std::vector<gpu::Buffer>& chunks() { return chunks_; }
   const std::vector<gpu::Buffer>& chunks() const { return chunks_; }
   std::uint64_t bytes() const;
-  // The chunk array as bound by the kernels: unused slots point at `dummy`.
+  // The chunk array as bound by the kernels: unused entries point at `dummy` (at least 16 bytes).
   std::vector<const gpu::Buffer*> binding(const gpu::Buffer& dummy) const;
+  // The same array as texel buffers, for reading (volume.glsl).
+  gpu::Texels texels(const gpu::Buffer& dummy) const;
 
-  // Host copies in the layout candidate-major per pixel: out[p * channels + i], i < channels
-  // (16-bit volumes are converted, rounding to nearest on upload).
-  std::vector<float> download(int channels) const;
-  void upload(const std::vector<float>& values, int channels);
+  // Host copies of slot `slot` in the layout candidate-major per pixel: out[p * channels + i],
+  // i < channels (16-bit volumes are converted, rounding to nearest on upload).
+  std::vector<float> download(int channels, int slot = 0) const;
+  void upload(const std::vector<float>& values, int channels, int slot = 0);
 
  private:
   int width_;

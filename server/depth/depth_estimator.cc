@@ -1,5 +1,6 @@
 #include "server/depth/depth_estimator.h"
 
+#include <algorithm>
 #include <stdexcept>
 
 #include "omnisweep/reproject/gpu_camera.h"
@@ -7,20 +8,25 @@
 namespace omnisweep::depth {
 namespace {
 
+using gpu::BindingSlot;
+
 struct SelectionPush {
-  std::uint32_t width, height, num_cameras, reference;
+  std::uint32_t width, height, num_cameras, reference, slot;
   float d_min, d_max;
 };
 struct GuidePush {
-  std::uint32_t width, height, camera;
+  std::uint32_t width, height;
+  std::uint32_t references[kMaxReferences];
 };
 struct SweepPush {
-  std::uint32_t width, height, reference, num_candidates;
+  std::uint32_t width, height, num_cameras, first, num_candidates;
   float inv_d_min, inv_d_max;
+  std::uint32_t references[kMaxReferences];
 };
 struct WtaPush {
   std::uint32_t width, height, num_candidates;
   float inv_d_min, inv_d_max, d_max;
+  std::uint32_t first;
 };
 
 // `layout` with the camera kernels' model constants for `rig`'s cameras.
@@ -46,6 +52,33 @@ const Rig& checked(const Rig& rig, const DepthOptions& options) {
   return rig;
 }
 
+// The volume of as many references per dispatch as fit the device's buffer limits: all of
+// them, else the largest group that divides them evenly, down to one at a time.
+VolumeLayout plan_group(const gpu::Context& context, const DepthOptions& options) {
+  const int references = int(options.references.size());
+  const int largest = options.max_group > 0 ? std::min(options.max_group, references) : references;
+  for (int group = largest;; --group) {
+    if (references % group != 0) continue;
+    try {
+      return plan_volume(context, options.matching_width, options.matching_height,
+                         options.num_candidates, options.half_costs, group);
+    } catch (const gpu::GpuError&) {
+      if (group == 1) throw;
+    }
+  }
+}
+
+// The cameras of `references` as push constants (unused entries 0).
+template <typename Push>
+void set_references(Push& push, const std::vector<int>& references) {
+  for (std::size_t i = 0; i < references.size(); ++i)
+    push.references[i] = std::uint32_t(references[i]);
+}
+
+gpu::Texels image_texels(const gpu::Buffer& images) {
+  return gpu::Texels(images, gpu::TexelFormat::kR32Uint);
+}
+
 }  // namespace
 
 DepthEstimator::DepthEstimator(gpu::Context& context, const Rig& rig,
@@ -57,25 +90,30 @@ DepthEstimator::DepthEstimator(gpu::Context& context, const Rig& rig,
       rig_(checked(rig, options)),
       width_(options.matching_width),
       height_(options.matching_height),
-      layout_(plan_volume(context, width_, height_, options.num_candidates, options.half_costs)),
+      layout_(plan_group(context, options)),
       selection_kernel_(context, "camera_selection",
                         {.bindings = {1, 1, 1},
                          .push_constant_bytes = sizeof(SelectionPush),
                          .constants = reproject::model_constants(reproject::common_model(rig))}),
       guide_kernel_(context, "ycbcr_guide",
-                    {.bindings = {1, 1}, .push_constant_bytes = sizeof(GuidePush)}),
+                    {.bindings = {BindingSlot::texels(), 1},
+                     .push_constant_bytes = sizeof(GuidePush)}),
       sweep_kernel_(context, volume_shader("sphere_sweep_cost", layout_),
-                    with_rig_model(
-                        volume_kernel_layout({1, 1, 1, kMaxChunks}, sizeof(SweepPush), layout_),
-                        rig)),
-      wta_kernel_(context, volume_shader("winner_take_all", layout_),
-                  volume_kernel_layout({kMaxChunks, 1}, sizeof(WtaPush), layout_)),
+                    with_rig_model(volume_kernel_layout({1, BindingSlot::texels(), 1, kMaxChunks},
+                                                        sizeof(SweepPush), layout_),
+                                   rig)),
+      wta_kernel_(context, "winner_take_all",
+                  volume_kernel_layout({BindingSlot::texels(kMaxChunks), 1}, sizeof(WtaPush),
+                                       layout_)),
       volume_(context, width_, height_, layout_),
       filter_(context, width_, height_, layout_),
-      post_filter_(context, width_, height_, VolumeLayout{1, 1}),
+      post_filter_(context, width_, height_, VolumeLayout{1, 1, false, int(slots())}),
       images_(context, std::uint64_t(width_) * height_ * 4 * rig.num_cameras()),
-      guide_(context, std::uint64_t(width_) * height_ * 4),
+      guide_(context, std::uint64_t(width_) * height_ * 4 * slots()),
       dummy_(context, 16),
+      cameras_(context, slots() * rig.num_cameras() * sizeof(reproject::GpuCamera)),
+      selections_(context, std::uint64_t(width_) * height_ * sizeof(std::int32_t) * slots()),
+      distances_(context, width_, height_, VolumeLayout{1, 1, false, int(slots())}),
       sequence_(context) {
   if (usable.size() != std::size_t(rig.num_cameras()) && !usable.empty()) {
     throw std::invalid_argument("expected one mask (or none) per camera, got " +
@@ -98,18 +136,20 @@ DepthEstimator::DepthEstimator(gpu::Context& context, const Rig& rig,
   gpu::Buffer masks(context, mask_bytes.size());
   masks.upload(mask_bytes.data(), mask_bytes.size());
 
-  // Camera selection, once per calibration (ALGORITHM.md §3 step 2).
+  // Every reference's cameras, then camera selection once per calibration (ALGORITHM.md §3
+  // step 2).
+  std::vector<reproject::GpuCamera> packed;
+  for (const int reference : options.references) {
+    const std::vector<reproject::GpuCamera> cameras = reproject::pack_cameras(rig_, reference);
+    packed.insert(packed.end(), cameras.begin(), cameras.end());
+  }
+  cameras_.upload(packed.data(), packed.size() * sizeof(reproject::GpuCamera));
   sequence_.begin();
-  for (std::size_t slot = 0; slot < options.references.size(); ++slot) {
-    const int reference = options.references[slot];
-    const std::vector<reproject::GpuCamera> packed = reproject::pack_cameras(rig_, reference);
-    cameras_.emplace_back(context, packed.size() * sizeof(reproject::GpuCamera));
-    cameras_.back().upload(packed.data(), packed.size() * sizeof(reproject::GpuCamera));
-    selections_.emplace_back(context, pixels * sizeof(std::int32_t));
-    distances_.emplace_back(context, width_, height_, VolumeLayout{1, 1});
-    sequence_.dispatch(selection_kernel_, {cameras_.back(), masks, selections_.back()},
+  for (std::uint32_t slot = 0; slot < slots(); ++slot) {
+    sequence_.dispatch(selection_kernel_, {cameras_, masks, selections_},
                        SelectionPush{std::uint32_t(width_), std::uint32_t(height_),
-                                     std::uint32_t(rig.num_cameras()), std::uint32_t(reference),
+                                     std::uint32_t(rig.num_cameras()),
+                                     std::uint32_t(options.references[slot]), slot,
                                      float(options.min_distance), float(options.max_distance)},
                        selection_kernel_.groups_for(width_, height_));
   }
@@ -140,72 +180,78 @@ void DepthEstimator::upload_images(const std::vector<const Rgb8Image*>& images) 
   images_.upload(std::span<const std::uint32_t>(packed));
 }
 
-void DepthEstimator::record_reference(gpu::Sequence& seq, int slot, bool filter, bool finish) {
-  const int reference = options_.references[slot];
-  const auto groups = sweep_kernel_.groups_for(width_, height_);
+void DepthEstimator::record_guides(gpu::Sequence& seq) {
+  GuidePush push{std::uint32_t(width_), std::uint32_t(height_), {}};
+  set_references(push, options_.references);
+  seq.dispatch(guide_kernel_, {image_texels(images_), guide_}, push,
+               guide_kernel_.groups_for(width_, height_, slots()));
+}
+
+void DepthEstimator::record_group(gpu::Sequence& seq, int first, bool filter, bool finish) {
   const float inv_d_min = float(1.0 / options_.min_distance),
               inv_d_max = float(1.0 / options_.max_distance);
-  const GuidePush guide_push{std::uint32_t(width_), std::uint32_t(height_),
-                             std::uint32_t(reference)};
-
+  const auto group = std::uint32_t(group_size());  // groups divide the references evenly
   // Winner takes all in the filter's last pass (the volume is not written back) wherever there
   // is a filter with a last upsample; otherwise its own kernel reads the volume.
   const bool fused_winner = filter && finish && filter_.levels() >= 2;
 
   seq.begin_stage("sweep_cost");
-  seq.dispatch(sweep_kernel_, {cameras_[slot], images_, selections_[slot], volume_.binding(dummy_)},
-               SweepPush{std::uint32_t(width_), std::uint32_t(height_), std::uint32_t(reference),
-                         std::uint32_t(options_.num_candidates), inv_d_min, inv_d_max},
-               groups);
+  SweepPush sweep{std::uint32_t(width_),
+                  std::uint32_t(height_),
+                  std::uint32_t(rig_.num_cameras()),
+                  std::uint32_t(first),
+                  std::uint32_t(options_.num_candidates),
+                  inv_d_min,
+                  inv_d_max,
+                  {}};
+  set_references(sweep, options_.references);
+  seq.dispatch(sweep_kernel_, {cameras_, image_texels(images_), selections_, volume_.binding(dummy_)},
+               sweep, sweep_kernel_.groups_for(width_, height_, group));
   seq.barrier();
   if (filter) {
     seq.begin_stage("filter");
-    seq.dispatch(guide_kernel_, {images_, guide_}, guide_push, groups);
-    seq.barrier();
     const IsbParams params{options_.sigma_i, options_.scaled_sigma_s()};
     if (fused_winner) {
-      filter_.record_winner_take_all(
-          seq, guide_, volume_, params, distances_[slot].chunks()[0],
-          {std::uint32_t(options_.num_candidates), inv_d_min, inv_d_max,
-           float(options_.max_distance)});
+      filter_.record_winner_take_all(seq, guide_, volume_, params, distances_.chunks()[0],
+                                     {std::uint32_t(options_.num_candidates), inv_d_min,
+                                      inv_d_max, float(options_.max_distance)},
+                                     first, first);
     } else {
-      filter_.record(seq, guide_, volume_, params);
+      filter_.record(seq, guide_, volume_, params, first);
     }
   }
-  if (!finish) {
-    seq.end_stage();
-    return;
-  }
-  if (!fused_winner) {
-    seq.begin_stage("wta");
-    seq.dispatch(wta_kernel_, {volume_.binding(dummy_), distances_[slot].chunks()[0]},
-                 WtaPush{std::uint32_t(width_), std::uint32_t(height_),
-                         std::uint32_t(options_.num_candidates), inv_d_min, inv_d_max,
-                         float(options_.max_distance)},
-                 groups);
+  if (!finish || fused_winner) return;
+  seq.begin_stage("wta");
+  seq.dispatch(wta_kernel_, {volume_.texels(dummy_), distances_.chunks()[0]},
+               WtaPush{std::uint32_t(width_), std::uint32_t(height_),
+                       std::uint32_t(options_.num_candidates), inv_d_min, inv_d_max,
+                       float(options_.max_distance), std::uint32_t(first)},
+               wta_kernel_.groups_for(width_, height_, group));
+  seq.barrier();
+}
+
+void DepthEstimator::record_post_filter(gpu::Sequence& seq, bool guides_intact) {
+  seq.begin_stage("post_filter");
+  // A filter whose last pass was not the fused winner left smoothed guides behind: start again
+  // from the images.
+  if (!guides_intact) {
+    record_guides(seq);
     seq.barrier();
   }
-  if (!options_.post_filter) {
-    seq.end_stage();
-    return;
-  }
-  // The filter left a smoothed guide behind: the post-filter starts again from the image.
-  seq.begin_stage("post_filter");
-  seq.dispatch(guide_kernel_, {images_, guide_}, guide_push, groups);
-  seq.barrier();
-  post_filter_.record(seq, guide_, distances_[slot],
+  post_filter_.record(seq, guide_, distances_,
                       {options_.sigma_i / 2, options_.scaled_sigma_s() / 2});
-  seq.end_stage();
 }
 
 void DepthEstimator::record(gpu::Sequence& seq) {
-  for (std::size_t slot = 0; slot < options_.references.size(); ++slot)
-    record_reference(seq, int(slot), true, true);
+  seq.begin_stage("filter");
+  record_guides(seq);  // independent of the sweep: the sweep's barrier covers both
+  for (int first = 0; first < int(slots()); first += group_size())
+    record_group(seq, first, true, true);
+  if (options_.post_filter) record_post_filter(seq, filter_.levels() >= 2);
+  seq.end_stage();
 }
 
-const gpu::Buffer& DepthEstimator::distance_buffer(int slot) const {
-  return distances_.at(std::size_t(slot)).chunks()[0];
-}
+const gpu::Buffer& DepthEstimator::distance_buffer() const { return distances_.chunks()[0]; }
 
 DepthResult DepthEstimator::estimate(const std::vector<const Rgb8Image*>& images) {
   upload_images(images);
@@ -213,9 +259,10 @@ DepthResult DepthEstimator::estimate(const std::vector<const Rgb8Image*>& images
   record(sequence_);
   sequence_.submit_and_wait();
   DepthResult result;
-  for (auto& d : distances_) {
+  const std::size_t bytes = std::size_t(width_) * height_ * sizeof(float);
+  for (std::uint32_t slot = 0; slot < slots(); ++slot) {
     FloatImage map(width_, height_, 1);
-    d.chunks()[0].download(map.data(), map.size() * sizeof(float));
+    distance_buffer().download(map.data(), bytes, slot * bytes);
     result.distance.push_back(std::move(map));
   }
   result.stage_ms = sequence_.stage_ms();
@@ -223,18 +270,23 @@ DepthResult DepthEstimator::estimate(const std::vector<const Rgb8Image*>& images
 }
 
 Image<std::int32_t> DepthEstimator::selection(int slot) const {
+  if (slot < 0 || slot >= int(slots())) throw std::out_of_range("no such reference slot");
   Image<std::int32_t> out(width_, height_, 1);
-  selections_.at(slot).download(out.data(), out.size() * sizeof(std::int32_t));
+  const std::size_t bytes = out.size() * sizeof(std::int32_t);
+  selections_.download(out.data(), bytes, std::size_t(slot) * bytes);
   return out;
 }
 
 std::vector<float> DepthEstimator::cost_volume(const std::vector<const Rgb8Image*>& images,
                                                int slot, bool filtered) {
+  if (slot < 0 || slot >= int(slots())) throw std::out_of_range("no such reference slot");
   upload_images(images);
+  const int first = slot / group_size() * group_size();
   sequence_.begin();
-  record_reference(sequence_, slot, filtered, false);
+  if (filtered) record_guides(sequence_);
+  record_group(sequence_, first, filtered, false);
   sequence_.submit_and_wait();
-  return volume_.download(options_.num_candidates);
+  return volume_.download(options_.num_candidates, slot - first);
 }
 
 }  // namespace omnisweep::depth

@@ -1,8 +1,10 @@
 // Distance estimation on the GPU (paper §3.1-3.2, ALGORITHM.md §3): camera selection once per
-// calibration, then per frame and reference camera: YCbCr guide, sphere sweep + L1 cost, the
-// ISB filter over every candidate, winner-takes-all with the parabola step, and the distance
-// post-filter. References are processed one after the other and share one full-resolution
-// cost volume, so exactly one volume is alive at any time.
+// calibration, then per frame: YCbCr guides, sphere sweep + L1 cost, the ISB filter over every
+// candidate, winner-takes-all with the parabola step (in the filter's last pass), and the
+// distance post-filter. Every dispatch covers all reference cameras at once (z = the reference's
+// slot), so a frame is the same few dozen dispatches whatever the number of references; where
+// the volumes of all references do not fit the device's buffer limits, the references are taken
+// in groups that share one volume (group_size()).
 #pragma once
 
 #include <optional>
@@ -38,11 +40,11 @@ class DepthEstimator {
 
   // The same without leaving the GPU, for a caller that records what follows into the same
   // submission (the stitcher): upload the images, record depth into `seq` (between its begin()
-  // and submit), and the distance map of reference slot `slot` (matching width x height floats,
-  // metres) is in distance_buffer(slot) once `seq` has run.
+  // and submit), and the distance maps (matching width x height floats, metres) are in
+  // distance_buffer() once `seq` has run, reference slot k's at float k x width x height.
   void upload(const std::vector<const Rgb8Image*>& images) { upload_images(images); }
   void record(gpu::Sequence& seq);
-  const gpu::Buffer& distance_buffer(int slot) const;
+  const gpu::Buffer& distance_buffer() const;
 
   // Stage by stage, for tests and benchmarks: the camera selection map of reference slot `slot`
   // (-1 = none), and the cost volume of the last uploaded images, raw or ISB-filtered, as
@@ -53,12 +55,19 @@ class DepthEstimator {
 
   const DepthOptions& options() const { return options_; }
   const VolumeLayout& volume_layout() const { return volume_.layout(); }
+  // References whose volumes one dispatch holds (every reference, unless they do not fit).
+  int group_size() const { return volume_.layout().slots; }
   // Device memory held by this estimator, bytes.
   std::uint64_t gpu_bytes() const;
 
  private:
   void upload_images(const std::vector<const Rgb8Image*>& images);
-  void record_reference(gpu::Sequence& seq, int slot, bool filter, bool finish);
+  // Sweep and filter of the group of references from slot `first` (group_size() of them, fewer
+  // at the end); `finish` ends in the distance maps, otherwise the volume is left behind.
+  void record_group(gpu::Sequence& seq, int first, bool filter, bool finish);
+  void record_guides(gpu::Sequence& seq);  // no barrier: the caller puts one before a use
+  void record_post_filter(gpu::Sequence& seq, bool guides_intact);
+  std::uint32_t slots() const { return std::uint32_t(options_.references.size()); }
 
   gpu::Context* context_;
   std::uint64_t allocated_before_;  // device memory in use before this estimator
@@ -71,15 +80,15 @@ class DepthEstimator {
   gpu::Kernel guide_kernel_;
   gpu::Kernel sweep_kernel_;
   gpu::Kernel wta_kernel_;
-  CostVolume volume_;      // the one full-resolution cost volume
-  IsbFilter filter_;       // its pyramid
-  IsbFilter post_filter_;  // one channel, for the distance maps
+  CostVolume volume_;      // the full-resolution cost volumes of one group of references
+  IsbFilter filter_;       // their pyramid
+  IsbFilter post_filter_;  // one channel, every reference, for the distance maps
   gpu::Buffer images_;     // RGBA8 per camera
-  gpu::Buffer guide_;
+  gpu::Buffer guide_;      // per reference slot
   gpu::Buffer dummy_;
-  std::vector<gpu::Buffer> cameras_;     // per reference slot
-  std::vector<gpu::Buffer> selections_;  // per reference slot
-  std::vector<CostVolume> distances_;    // per reference slot, one channel
+  gpu::Buffer cameras_;     // per reference slot, every camera (reproject::pack_cameras)
+  gpu::Buffer selections_;  // per reference slot
+  CostVolume distances_;    // one channel, every reference slot
   gpu::Sequence sequence_;
   std::uint64_t gpu_bytes_ = 0;  // held after construction
 };

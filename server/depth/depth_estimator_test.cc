@@ -3,6 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include "server/depth/depth_fixtures.h"
 #include "server/depth/depth_reference.h"
 #include "tests/support/gpu_test_support.h"
@@ -218,6 +220,34 @@ TEST_F(DepthEstimatorTest, HalfCostsKeepTheAccuracy) {
   }
 }
 
+// References taken in groups (DepthOptions::max_group) give the same maps, bit for bit, as all
+// of them in each dispatch: every slot computes the same, whichever dispatch it is in.
+TEST_F(DepthEstimatorTest, GroupsOfReferencesGiveTheSameMaps) {
+  const auto scene = fixtures::render_depth_case(64);
+  std::vector<DepthResult> results;
+  for (const int group : {0, 2, 1}) {
+    DepthOptions options;
+    options.matching_width = options.matching_height = 64;
+    options.references = {0, 1, 2, 3};
+    options.max_group = group;
+    DepthEstimator estimator(context(), scene.rig.rig(), scene.usable, options);
+    EXPECT_EQ(estimator.group_size(), group == 0 ? 4 : group);
+    results.push_back(estimator.estimate(scene.image_pointers()));
+    ASSERT_EQ(results.back().distance.size(), 4u);
+  }
+  for (std::size_t r = 1; r < results.size(); ++r) {
+    for (std::size_t slot = 0; slot < 4; ++slot) {
+      const FloatImage& a = results[0].distance[slot];
+      const FloatImage& b = results[r].distance[slot];
+      EXPECT_TRUE(std::equal(a.data(), a.data() + a.size(), b.data())) << r << " " << slot;
+    }
+  }
+  // Each slot's map is its own reference's: not a copy of another's.
+  EXPECT_FALSE(std::equal(results[0].distance[0].data(),
+                          results[0].distance[0].data() + results[0].distance[0].size(),
+                          results[0].distance[1].data()));
+}
+
 TEST_F(DepthEstimatorTest, RejectsBadInput) {
   const auto scene = fixtures::render_depth_case(64);
   DepthOptions options;
@@ -225,7 +255,14 @@ TEST_F(DepthEstimatorTest, RejectsBadInput) {
   options.references = {2, 9};
   EXPECT_THROW(DepthEstimator(context(), scene.rig.rig(), scene.usable, options),
                std::invalid_argument);
+  options.references = {0, 1, 2, 3, 0, 1, 2, 3, 0};  // too many (and repeated)
+  EXPECT_THROW(DepthEstimator(context(), scene.rig.rig(), scene.usable, options),
+               std::invalid_argument);
   options.references = {2, 3};
+  options.max_group = -1;
+  EXPECT_THROW(DepthEstimator(context(), scene.rig.rig(), scene.usable, options),
+               std::invalid_argument);
+  options.max_group = 0;
   options.num_candidates = 1;
   EXPECT_THROW(DepthEstimator(context(), scene.rig.rig(), scene.usable, options),
                std::invalid_argument);

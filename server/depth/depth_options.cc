@@ -10,6 +10,10 @@ namespace omnisweep::depth {
 void DepthOptions::check(int num_cameras) const {
   auto fail = [](const std::string& what) { throw std::invalid_argument(what); };
   if (references.empty()) fail("references: at least one reference camera is needed");
+  if (references.size() > kMaxReferences) {
+    fail("references: " + std::to_string(references.size()) + " given, at most " +
+         std::to_string(kMaxReferences) + " are supported");
+  }
   for (std::size_t i = 0; i < references.size(); ++i) {
     const int r = references[i];
     if (r < 0 || r >= num_cameras) {
@@ -20,6 +24,7 @@ void DepthOptions::check(int num_cameras) const {
       fail("references: camera " + std::to_string(r) + " is listed twice");
   }
   if (num_cameras < 2) fail("a rig needs at least 2 cameras to match");
+  if (max_group < 0) fail("max-group: " + std::to_string(max_group) + " must be 0 (all) or more");
   if (num_candidates < 2 || num_candidates > 512) {
     fail("candidates: " + std::to_string(num_candidates) + " must be within [2, 512]");
   }

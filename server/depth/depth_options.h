@@ -2,9 +2,13 @@
 // defaults. check() throws std::invalid_argument naming the option that is wrong.
 #pragma once
 
+#include <cstddef>
 #include <vector>
 
 namespace omnisweep::depth {
+
+// Reference cameras one frame can have (the kernels take their cameras as push constants).
+inline constexpr std::size_t kMaxReferences = 8;
 
 struct DepthOptions {
   std::vector<int> references = {2, 3};  // cameras that get a distance map
@@ -20,6 +24,11 @@ struct DepthOptions {
   // the memory and traffic of the sweep and the filter, arithmetic still in 32 bits
   // (docs/performance.md has what it changes). false: 32-bit floats everywhere.
   bool half_costs = true;
+  // At most this many references in one dispatch (0: all of them). Each holds a cost volume
+  // while a frame runs, so fewer in a group lower the memory and raise the dispatches; groups
+  // divide the references evenly, and also shrink by themselves where the device's buffer
+  // limits need it.
+  int max_group = 0;
 
   void check(int num_cameras) const;
   // sigma_s at the matching resolution (ALGORITHM.md §3 step 4).

@@ -9,20 +9,39 @@ namespace {
 struct DownPush {
   std::uint32_t fine_width, fine_height, coarse_width, coarse_height;
   float inv_two_sigma_sq;
+  std::uint32_t fine_guide_first;
 };
 
 struct UpPush {
   std::uint32_t fine_width, fine_height, coarse_width, coarse_height;
   float inv_two_sigma_sq;
   float w_down;
+  std::uint32_t fine_guide_first;
   WtaParams wta;  // read by the kWinnerTakesAll variant only
+  std::uint32_t distance_first;
 };
 
+using gpu::BindingSlot;
+
+gpu::KernelLayout down_layout(VolumeLayout layout) {
+  return volume_kernel_layout(
+      {BindingSlot::texels(), 1, BindingSlot::texels(kMaxChunks), kMaxChunks}, sizeof(DownPush),
+      layout);
+}
+
+// Bindings: the fine guide and volume are written as storage buffers (0, 2) and read as texel
+// buffers (5, 6) of the same memory; the coarse level is read only.
 gpu::KernelLayout up_layout(VolumeLayout layout, bool winner_take_all) {
-  gpu::KernelLayout k =
-      volume_kernel_layout({1, 1, kMaxChunks, kMaxChunks, 1}, sizeof(UpPush), layout);
+  gpu::KernelLayout k = volume_kernel_layout(
+      {1, BindingSlot::texels(), kMaxChunks, BindingSlot::texels(kMaxChunks), 1,
+       BindingSlot::texels(), BindingSlot::texels(kMaxChunks)},
+      sizeof(UpPush), layout);
   k.constants.push_back(gpu::SpecConstant::of(2, std::uint32_t(winner_take_all)));
   return k;
+}
+
+gpu::Texels guide_texels(const gpu::Buffer& guide) {
+  return gpu::Texels(guide, gpu::TexelFormat::kR32Uint);
 }
 
 }  // namespace
@@ -36,8 +55,7 @@ IsbFilter::IsbFilter(gpu::Context& context, int width, int height, VolumeLayout 
     : context_(&context),
       layout_(layout),
       dummy_(context, 16),
-      down_(context, volume_shader("isb_downsample", layout),
-            volume_kernel_layout({1, 1, kMaxChunks, kMaxChunks}, sizeof(DownPush), layout)),
+      down_(context, volume_shader("isb_downsample", layout), down_layout(layout)),
       up_(context, volume_shader("isb_upsample", layout), up_layout(layout, false)),
       up_wta_(context, volume_shader("isb_upsample", layout), up_layout(layout, true)) {
   if (!context.info().buffer_array_indexing) {
@@ -48,7 +66,8 @@ IsbFilter::IsbFilter(gpu::Context& context, int width, int height, VolumeLayout 
   for (int l = 1; l < isb_levels(width, height); ++l) {
     const auto [w, h] = sizes_.back();
     sizes_.emplace_back((w + 1) / 2, (h + 1) / 2);
-    guides_.emplace_back(context, std::uint64_t(sizes_.back().first) * sizes_.back().second * 4);
+    guides_.emplace_back(context, std::uint64_t(sizes_.back().first) * sizes_.back().second * 4 *
+                                      layout.slots);
     volumes_.emplace_back(context, sizes_.back().first, sizes_.back().second, layout);
   }
 }
@@ -61,19 +80,24 @@ std::uint64_t IsbFilter::bytes() const {
 }
 
 void IsbFilter::record(gpu::Sequence& seq, gpu::Buffer& guide, CostVolume& volume,
-                       const IsbParams& params) {
-  record(seq, guide, volume, params, nullptr, {});
+                       const IsbParams& params, int guide_first) {
+  record(seq, guide, volume, params, nullptr, {}, guide_first, 0);
 }
 
 void IsbFilter::record_winner_take_all(gpu::Sequence& seq, gpu::Buffer& guide,
                                        CostVolume& volume, const IsbParams& params,
-                                       gpu::Buffer& distance, const WtaParams& wta) {
+                                       gpu::Buffer& distance, const WtaParams& wta,
+                                       int guide_first, int distance_first) {
   if (levels() < 2) throw std::invalid_argument("ISB filter: a fused winner needs 2 levels");
-  record(seq, guide, volume, params, &distance, wta);
+  record(seq, guide, volume, params, &distance, wta, guide_first, distance_first);
 }
 
 void IsbFilter::record(gpu::Sequence& seq, gpu::Buffer& guide, CostVolume& volume,
-                       const IsbParams& params, gpu::Buffer* distance, const WtaParams& wta) {
+                       const IsbParams& params, gpu::Buffer* distance, const WtaParams& wta,
+                       int guide_first, int distance_first) {
+  if (volume.layout().slots != layout_.slots || guide_first < 0 || distance_first < 0)
+    throw std::invalid_argument("ISB filter: the volume's slots differ from the filter's");
+  const auto slots = std::uint32_t(layout_.slots);
   const float inv_two_sigma_sq = float(1.0 / (2.0 * params.sigma_i * params.sigma_i));
   auto guide_at = [&](int l) -> gpu::Buffer& { return l == 0 ? guide : guides_[l - 1]; };
   auto volume_at = [&](int l) -> CostVolume& { return l == 0 ? volume : volumes_[l - 1]; };
@@ -81,11 +105,12 @@ void IsbFilter::record(gpu::Sequence& seq, gpu::Buffer& guide, CostVolume& volum
     const auto [fw, fh] = sizes_[l];
     const auto [cw, ch] = sizes_[l + 1];
     seq.dispatch(down_,
-                 {guide_at(l), guide_at(l + 1), volume_at(l).binding(dummy_),
+                 {guide_texels(guide_at(l)), guide_at(l + 1), volume_at(l).texels(dummy_),
                   volume_at(l + 1).binding(dummy_)},
                  DownPush{std::uint32_t(fw), std::uint32_t(fh), std::uint32_t(cw),
-                          std::uint32_t(ch), inv_two_sigma_sq},
-                 down_.groups_for(cw, ch));
+                          std::uint32_t(ch), inv_two_sigma_sq,
+                          std::uint32_t(l == 0 ? guide_first : 0)},
+                 down_.groups_for(cw, ch, slots));
     seq.barrier();
   }
   for (int l = levels() - 2; l >= 0; --l) {  // up: level l + 1 -> l
@@ -95,11 +120,13 @@ void IsbFilter::record(gpu::Sequence& seq, gpu::Buffer& guide, CostVolume& volum
     const float w_down = float(std::exp(-scale * scale / (2.0 * params.sigma_s * params.sigma_s)));
     const bool fused = distance && l == 0;
     seq.dispatch(fused ? up_wta_ : up_,
-                 {guide_at(l), guide_at(l + 1), volume_at(l).binding(dummy_),
-                  volume_at(l + 1).binding(dummy_), fused ? *distance : dummy_},
+                 {guide_at(l), guide_texels(guide_at(l + 1)), volume_at(l).binding(dummy_),
+                  volume_at(l + 1).texels(dummy_), fused ? *distance : dummy_,
+                  guide_texels(guide_at(l)), volume_at(l).texels(dummy_)},
                  UpPush{std::uint32_t(fw), std::uint32_t(fh), std::uint32_t(cw), std::uint32_t(ch),
-                        inv_two_sigma_sq, w_down, fused ? wta : WtaParams{}},
-                 up_.groups_for(fw, fh));
+                        inv_two_sigma_sq, w_down, std::uint32_t(l == 0 ? guide_first : 0),
+                        fused ? wta : WtaParams{}, std::uint32_t(distance_first)},
+                 up_.groups_for(cw, ch, slots));  // one invocation per coarse pixel
     seq.barrier();
   }
 }

@@ -29,25 +29,29 @@ int isb_levels(int width, int height);
 
 class IsbFilter {
  public:
-  // A filter for width x height volumes with `layout`; allocates the coarser levels.
+  // A filter for width x height volumes with `layout` (every slot of it in each dispatch);
+  // allocates the coarser levels.
   IsbFilter(gpu::Context& context, int width, int height, VolumeLayout layout);
 
   // Records the filter into `seq`: `volume` (full resolution) is filtered in place; `guide`
-  // (packed 8-bit, 3 channels) is consumed: it ends up holding the smoothed guide.
-  void record(gpu::Sequence& seq, gpu::Buffer& guide, CostVolume& volume, const IsbParams& params);
+  // (packed 8-bit, 3 channels, a width x height plane per slot from plane `guide_first` on) is
+  // consumed: it ends up holding the smoothed guides.
+  void record(gpu::Sequence& seq, gpu::Buffer& guide, CostVolume& volume, const IsbParams& params,
+              int guide_first = 0);
   // The same, ending in winner-takes-all: the last pass writes each pixel's winning distance to
-  // `distance` (width x height floats) instead of the filtered costs, so `volume` is left holding
-  // intermediate values and `guide` is not updated by that pass. Needs at least 2 levels.
+  // `distance` (width x height floats per slot, from plane `distance_first` on) instead of the
+  // filtered costs, so `volume` is left holding intermediate values and `guide` is not updated by
+  // that pass. Needs at least 2 levels.
   void record_winner_take_all(gpu::Sequence& seq, gpu::Buffer& guide, CostVolume& volume,
                               const IsbParams& params, gpu::Buffer& distance,
-                              const WtaParams& wta);
+                              const WtaParams& wta, int guide_first = 0, int distance_first = 0);
 
   int levels() const { return int(sizes_.size()); }
   std::uint64_t bytes() const;
 
  private:
   void record(gpu::Sequence& seq, gpu::Buffer& guide, CostVolume& volume, const IsbParams& params,
-              gpu::Buffer* distance, const WtaParams& wta);
+              gpu::Buffer* distance, const WtaParams& wta, int guide_first, int distance_first);
 
   gpu::Context* context_;
   VolumeLayout layout_;

@@ -4,10 +4,7 @@ namespace omnisweep::pipeline {
 
 GpuFrame::GpuFrame(gpu::Context& context, depth::DepthEstimator& estimator,
                    stitch::Stitcher& stitcher)
-    : estimator_(&estimator), stitcher_(&stitcher), sequence_(context) {
-  for (std::size_t slot = 0; slot < estimator.options().references.size(); ++slot)
-    distance_maps_.push_back(&estimator.distance_buffer(int(slot)));
-}
+    : estimator_(&estimator), stitcher_(&stitcher), sequence_(context) {}
 
 stitch::Panorama GpuFrame::run(const std::vector<const Rgb8Image*>& matching,
                                const std::vector<const Rgb8Image*>& colour) {
@@ -15,7 +12,7 @@ stitch::Panorama GpuFrame::run(const std::vector<const Rgb8Image*>& matching,
   stitcher_->upload_colour(colour);
   sequence_.begin();
   estimator_->record(sequence_);
-  stitcher_->record(sequence_, distance_maps_);
+  stitcher_->record(sequence_, estimator_->distance_buffer());
   sequence_.submit_and_wait();
   stitch::Panorama panorama = stitcher_->download();
   panorama.stage_ms = sequence_.stage_ms();

@@ -26,7 +26,6 @@ class GpuFrame {
   depth::DepthEstimator* estimator_;
   stitch::Stitcher* stitcher_;
   gpu::Sequence sequence_;
-  std::vector<const gpu::Buffer*> distance_maps_;  // the estimator's, one per reference
 };
 
 }  // namespace omnisweep::pipeline

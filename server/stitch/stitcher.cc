@@ -51,8 +51,8 @@ Stitcher::Stitcher(gpu::Context& context, const Rig& matching_rig, const Rig& co
       cameras_(context, 2 * references.size() * sizeof(reproject::GpuCamera)),
       weights_(context, references.size() * std::uint64_t(options.panorama_width) *
                             options.panorama_height * 4),
-      warped_(context, references.size() * area(matching_rig.cameras.at(references.at(0))) * 4),
-      original_(context, references.size() * area(matching_rig.cameras.at(references.at(0))) * 4),
+      distances_(context,
+                 references.size() * area(matching_rig.cameras.at(references.at(0))) * 4),
       colour_(context, references.size() * area(colour_rig.cameras.at(references.at(0))) * 4),
       out_colour_(context, std::uint64_t(options.panorama_width) * options.panorama_height * 4),
       out_distance_(context, std::uint64_t(options.panorama_width) * options.panorama_height * 4),
@@ -69,6 +69,7 @@ Stitcher::Stitcher(gpu::Context& context, const Rig& matching_rig, const Rig& co
   const RigCamera& first = matching_rig.cameras[references[0]];
   const RigCamera& first_colour = colour_rig.cameras[references[0]];
   std::vector<reproject::GpuCamera> cameras;
+  std::vector<reproject::WarpLayer> layers;
   for (int ref : references) {
     const RigCamera& cam = matching_rig.cameras.at(ref);
     const RigCamera& colour_cam = colour_rig.cameras.at(ref);
@@ -80,18 +81,18 @@ Stitcher::Stitcher(gpu::Context& context, const Rig& matching_rig, const Rig& co
     const Rigid3d cam_from_rig = cam.rig_from_cam.inverse();
     const Eigen::Vector3d t_c = cam_from_rig * viewpoint_;  // the viewpoint in c's frame
     // Warp target: c's own intrinsics and axes, centred on the viewpoint (P = D ray - t_c).
-    warpers_.emplace_back(
-        context, reproject::pack_camera(cam.model, cam.width, cam.height, Rigid3d()),
-        reproject::pack_camera(cam.model, cam.width, cam.height,
-                               Rigid3d(Eigen::Quaterniond::Identity(), -t_c)),
-        reproject::WarpOptions{options.min_distance, options.max_distance, options.inpaint_passes});
-    distances_.emplace_back(context, area(cam) * 4);
+    layers.push_back({reproject::pack_camera(cam.model, cam.width, cam.height, Rigid3d()),
+                      reproject::pack_camera(cam.model, cam.width, cam.height,
+                                             Rigid3d(Eigen::Quaterniond::Identity(), -t_c))});
     cameras.push_back(reproject::pack_camera(cam.model, cam.width, cam.height,
                                              Rigid3d(cam_from_rig.rotation, t_c)));
     cameras.push_back(
         reproject::pack_camera(colour_cam.model, colour_cam.width, colour_cam.height, Rigid3d()));
   }
   cameras_.upload(cameras.data(), cameras.size() * sizeof(reproject::GpuCamera));
+  warper_.emplace(context, std::move(layers),
+                  reproject::WarpOptions{options.min_distance, options.max_distance,
+                                         options.inpaint_passes});
 
   compute_weights(usable);
   gpu_bytes_ = context.allocated_bytes() - allocated_before_;
@@ -185,25 +186,15 @@ void Stitcher::upload_colour(const std::vector<const Rgb8Image*>& colour) {
   }
 }
 
-void Stitcher::record(gpu::Sequence& seq, const std::vector<const gpu::Buffer*>& distance) {
+void Stitcher::record(gpu::Sequence& seq, const gpu::Buffer& distance) {
   const std::uint64_t matching = area(matching_rig_.cameras[references_[0]]);
-  if (distance.size() != references_.size())
-    throw std::invalid_argument("stitch: expected one distance map per reference");
-  for (const gpu::Buffer* d : distance) {
-    if (d->size() < matching * 4)
-      throw std::invalid_argument("stitch: a distance buffer holds fewer than the matching pixels");
-  }
+  if (distance.size() < references_.size() * matching * 4)
+    throw std::invalid_argument("stitch: the distance buffer holds fewer than the references' maps");
   seq.begin_stage("warp");
-  for (std::size_t k = 0; k < references_.size(); ++k)  // the unwarped maps, side by side
-    seq.copy(*distance[k], original_, matching * 4, 0, k * matching * 4);
-  for (std::size_t k = 0; k < references_.size(); ++k) warpers_[k].record(seq, *distance[k]);
-  for (std::size_t k = 0; k < references_.size(); ++k) {  // side by side for the merge
-    seq.copy(warpers_[k].result(), warped_, matching * 4, 0, k * matching * 4);
-  }
-  seq.barrier();
+  warper_->record(seq, distance);  // ends in a barrier
   seq.begin_stage("merge");
   seq.dispatch(
-      merge_, {cameras_, weights_, warped_, original_, colour_, out_colour_, out_distance_},
+      merge_, {cameras_, weights_, warper_->result(), distance, colour_, out_colour_, out_distance_},
       MergePush{std::uint32_t(options_.panorama_width), std::uint32_t(options_.panorama_height),
                 std::uint32_t(references_.size())},
       merge_.groups_for(options_.panorama_width, options_.panorama_height));
@@ -239,13 +230,10 @@ Panorama Stitcher::stitch(const std::vector<const FloatImage*>& distance,
     }
   }
   upload_colour(colour);
-  std::vector<const gpu::Buffer*> maps;
-  for (std::size_t k = 0; k < references_.size(); ++k) {
-    distances_[k].upload(distance[k]->data(), area(first) * 4);
-    maps.push_back(&distances_[k]);
-  }
+  for (std::size_t k = 0; k < references_.size(); ++k)
+    distances_.upload(distance[k]->data(), area(first) * 4, k * area(first) * 4);
   sequence_.begin();
-  record(sequence_, maps);
+  record(sequence_, distances_);
   sequence_.submit_and_wait();
   Panorama out = download();
   out.stage_ms = sequence_.stage_ms();

@@ -1,8 +1,9 @@
 // Distance-aware stitching (paper §3.3, ALGORITHM.md §5): two (or more) reference fisheye
 // distance maps and their colour images become an equirectangular colour + distance panorama
-// seen from the viewpoint (by default the mean position of the references). Per reference: the
-// forward warp with z-buffer and directional inpainting of the shared reprojection module, then
-// one merge kernel with blending weights computed on the GPU once per calibration.
+// seen from the viewpoint (by default the mean position of the references). The forward warp with
+// z-buffer and directional inpainting of the shared reprojection module (every reference in
+// each dispatch: one layer each), then one merge kernel with blending weights computed on the
+// GPU once per calibration.
 #pragma once
 
 #include <optional>
@@ -44,12 +45,13 @@ class Stitcher {
   Panorama stitch(const std::vector<const FloatImage*>& distance,
                   const std::vector<const Rgb8Image*>& colour);
 
-  // The same on distance maps already on the GPU (DepthEstimator::distance_buffer), in a
-  // submission the caller owns: upload_colour, record into `seq` after what writes `distance`,
-  // submit, then download. With the depth estimator recorded first, a frame is one submission
-  // from the camera images to the panorama: no host round trip between them.
+  // The same on distance maps already on the GPU (DepthEstimator::distance_buffer: reference k's
+  // map at float k x width x height), in a submission the caller owns: upload_colour, record
+  // into `seq` after what writes `distance`, submit, then download. With the depth estimator
+  // recorded first, a frame is one submission from the camera images to the panorama: no host
+  // round trip between them. `distance` must stay alive until the submission has run.
   void upload_colour(const std::vector<const Rgb8Image*>& colour);
-  void record(gpu::Sequence& seq, const std::vector<const gpu::Buffer*>& distance);
+  void record(gpu::Sequence& seq, const gpu::Buffer& distance);
   Panorama download() const;
 
   const Eigen::Vector3d& viewpoint() const { return viewpoint_; }
@@ -68,12 +70,10 @@ class Stitcher {
   Rig colour_rig_;
   Eigen::Vector3d viewpoint_;
   std::uint64_t allocated_before_;
-  std::vector<reproject::ForwardWarper> warpers_;
-  std::vector<gpu::Buffer> distances_;  // per reference, the input maps
+  std::optional<reproject::ForwardWarper> warper_;  // one layer per reference
+  gpu::Buffer distances_;  // stitch()'s input maps, reference after reference
   gpu::Buffer cameras_;
   gpu::Buffer weights_;
-  gpu::Buffer warped_;
-  gpu::Buffer original_;
   gpu::Buffer colour_;
   gpu::Buffer out_colour_;
   gpu::Buffer out_distance_;

@@ -12,9 +12,10 @@
 namespace omnisweep::tools {
 
 // --references, --candidates, --min-dist, --max-dist, --sigma-i, --sigma-s,
-// --matching-resolution W H (written into the options) and --vk-device (into `device`).
+// --matching-resolution W H, --float32-costs, --max-group (written into the options) and
+// --vk-device (into `device`).
 inline void add_depth_flags(CLI::App& app, depth::DepthOptions& options, std::string& device) {
-  app.add_option("--references", options.references, "Reference cameras (default 2 3)")
+  app.add_option("--references", options.references, "Reference cameras (default 2 3, at most 8)")
       ->expected(1, 16);
   app.add_option("--candidates", options.num_candidates, "Number of candidate distances")
       ->check(CLI::Range(2, 512));
@@ -38,6 +39,10 @@ inline void add_depth_flags(CLI::App& app, depth::DepthOptions& options, std::st
   app.add_flag_function(
       "--float32-costs", [&options](std::int64_t) { options.half_costs = false; },
       "Store the cost volume as 32-bit floats (default: 16-bit where the device supports it)");
+  app.add_option("--max-group", options.max_group,
+                 "At most this many references per dispatch, each with its cost volume in "
+                 "memory (default 0: all)")
+      ->check(CLI::Range(0, 8));
   app.add_option(
       "--vk-device", device,
       "Vulkan device: index or name substring (default: OMNISWEEP_VK_DEVICE, else the best)");

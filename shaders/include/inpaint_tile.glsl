@@ -5,6 +5,7 @@
 // the tile itself is exact after kHalo. One dispatch replaces kHalo, so the image is read and
 // written once per kHalo passes instead of once per pass. A tile without holes skips the passes,
 // and a pass that changes nothing in the region ends them (every later pass would repeat it).
+// The workgroup's z is the layer: plane z of the directions, source and destination.
 //
 // The including shader declares the bindings Directions `directions`, Source `source`,
 // Destination `destination`, Filled `filled` and the push constants (width, height, wrap_x, pass,
@@ -36,6 +37,7 @@ bool image_pixel(uvec2 r, out ivec2 g) {
 }
 
 void inpaint_tile() {
+  const int layer_base = int(gl_WorkGroupID.z * push.width * push.height);
   const uint threads = gl_WorkGroupSize.x * gl_WorkGroupSize.y;
   const uint lid = gl_LocalInvocationIndex;
   if (lid < 3u) tile_changed[lid] = 0u;
@@ -44,7 +46,7 @@ void inpaint_tile() {
     const uvec2 r = uvec2(i % kRegion, i / kRegion);
     ivec2 g;
     const bool inside = image_pixel(r, g);
-    const uint value = inside ? source[g.y * int(push.width) + g.x] : kEmptyValue;
+    const uint value = inside ? source[layer_base + g.y * int(push.width) + g.x] : kEmptyValue;
     tile_values[i] = value;
     if (inside && in_tile(r) && is_empty(value)) atomicOr(tile_changed[0], 1u);
   }
@@ -64,7 +66,7 @@ void inpaint_tile() {
       ivec2 g;
       if (is_empty(value) && r.x >= lo && r.x <= hi && r.y >= lo && r.y <= hi &&
           image_pixel(r, g)) {
-        const Direction d = directions[g.y * int(push.width) + g.x];
+        const Direction d = directions[layer_base + g.y * int(push.width) + g.x];
         uint neighbour[2] = uint[2](kEmptyValue, kEmptyValue);
         float weight[2] = float[2](0.0, 0.0);
         for (uint k = 0u; k < 2u; ++k) {
@@ -94,7 +96,7 @@ void inpaint_tile() {
     const uvec2 r = uvec2(i % kRegion, i / kRegion);
     ivec2 g;
     if (in_tile(r) && image_pixel(r, g)) {
-      destination[g.y * int(push.width) + g.x] = tile_values[result + i];
+      destination[layer_base + g.y * int(push.width) + g.x] = tile_values[result + i];
     }
   }
 }

@@ -10,6 +10,7 @@ namespace {
 
 constexpr auto kUsage = vk::BufferUsageFlagBits::eStorageBuffer |
                         vk::BufferUsageFlagBits::eUniformTexelBuffer |
+                        vk::BufferUsageFlagBits::eUniformBuffer |
                         vk::BufferUsageFlagBits::eTransferSrc |
                         vk::BufferUsageFlagBits::eTransferDst;
 

@@ -4,6 +4,18 @@
 
 namespace omnisweep::gpu {
 
+vk::DescriptorType descriptor_type(BindingKind kind) {
+  switch (kind) {
+    case BindingKind::kTexelBuffer:
+      return vk::DescriptorType::eUniformTexelBuffer;
+    case BindingKind::kUniformBuffer:
+      return vk::DescriptorType::eUniformBuffer;
+    case BindingKind::kStorageBuffer:
+      break;
+  }
+  return vk::DescriptorType::eStorageBuffer;
+}
+
 Kernel::Kernel(const Context& context, const std::string& shader, KernelLayout layout)
     : name_(shader), layout_(std::move(layout)) {
   const auto code = embedded_shader(shader);
@@ -15,35 +27,33 @@ Kernel::Kernel(const Context& context, const std::string& shader, KernelLayout l
                    " invocations exceeds the device limit " +
                    std::to_string(props_limits.max_workgroup_invocations));
   }
-  std::uint32_t descriptors = 0;
-  for (std::uint32_t count : layout_.bindings) descriptors += count;
-  if (descriptors > props_limits.max_storage_buffers_per_stage) {
-    throw GpuError("kernel " + shader + ": binds " + std::to_string(descriptors) +
-                   " storage buffers, over the limit of " +
-                   std::to_string(props_limits.max_storage_buffers_per_stage) + " on " +
-                   props_limits.name);
+  std::uint32_t storage = 0, texels = 0, uniforms = 0;
+  for (const BindingSlot& slot : layout_.bindings) {
+    (slot.kind == BindingKind::kStorageBuffer  ? storage
+     : slot.kind == BindingKind::kTexelBuffer ? texels
+                                               : uniforms) += slot.count;
   }
-  if (layout_.texel_buffers > props_limits.max_sampled_images_per_stage) {
-    throw GpuError("kernel " + shader + ": binds " + std::to_string(layout_.texel_buffers) +
-                   " texel buffers, over the limit of " +
-                   std::to_string(props_limits.max_sampled_images_per_stage) + " on " +
-                   props_limits.name);
-  }
+  const auto check = [&](std::uint32_t count, std::uint32_t limit, const char* what) {
+    if (count > limit) {
+      throw GpuError("kernel " + shader + ": binds " + std::to_string(count) + " " + what +
+                     ", over the limit of " + std::to_string(limit) + " on " +
+                     props_limits.name);
+    }
+  };
+  check(storage, props_limits.max_storage_buffers_per_stage, "storage buffers");
+  check(texels, props_limits.max_sampled_images_per_stage, "texel buffers");
+  check(uniforms, props_limits.max_uniform_buffers_per_stage, "uniform buffers");
+
   try {
     std::vector<vk::DescriptorSetLayoutBinding> bindings;
     for (std::uint32_t i = 0; i < layout_.bindings.size(); ++i) {
-      bindings.emplace_back(i, vk::DescriptorType::eStorageBuffer, layout_.bindings[i],
-                            vk::ShaderStageFlagBits::eCompute);
+      bindings.emplace_back(i, descriptor_type(layout_.bindings[i].kind),
+                            layout_.bindings[i].count, vk::ShaderStageFlagBits::eCompute);
     }
     for (std::uint32_t i = 0; i < layout_.storage_images; ++i) {
       bindings.emplace_back(std::uint32_t(layout_.bindings.size()) + i,
                             vk::DescriptorType::eStorageImage, 1,
                             vk::ShaderStageFlagBits::eCompute);
-    }
-    for (std::uint32_t i = 0; i < layout_.texel_buffers; ++i) {
-      bindings.emplace_back(
-          std::uint32_t(layout_.bindings.size() + layout_.storage_images) + i,
-          vk::DescriptorType::eUniformTexelBuffer, 1, vk::ShaderStageFlagBits::eCompute);
     }
     set_layout_ = vk::raii::DescriptorSetLayout(context.device(),
                                                 vk::DescriptorSetLayoutCreateInfo({}, bindings));

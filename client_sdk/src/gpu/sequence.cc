@@ -8,10 +8,11 @@ namespace omnisweep::gpu {
 
 Sequence::Sequence(const Context& context, std::uint32_t max_dispatches, std::uint32_t max_stages)
     : context_(&context), max_stages_(max_stages) {
-  const std::array<vk::DescriptorPoolSize, 3> sizes = {
+  const std::array<vk::DescriptorPoolSize, 4> sizes = {
       vk::DescriptorPoolSize(vk::DescriptorType::eStorageBuffer, max_dispatches * 24),
       vk::DescriptorPoolSize(vk::DescriptorType::eStorageImage, max_dispatches * 4),
-      vk::DescriptorPoolSize(vk::DescriptorType::eUniformTexelBuffer, max_dispatches * 8)};
+      vk::DescriptorPoolSize(vk::DescriptorType::eUniformTexelBuffer, max_dispatches * 24),
+      vk::DescriptorPoolSize(vk::DescriptorType::eUniformBuffer, max_dispatches * 4)};
   pool_ = vk::raii::DescriptorPool(context.device(),
                                    vk::DescriptorPoolCreateInfo({}, max_dispatches, sizes));
   command_pool_ = vk::raii::CommandPool(
@@ -47,29 +48,18 @@ void Sequence::dispatch(const Kernel& kernel, const std::vector<Binding>& bindin
     throw GpuError("kernel " + kernel.name() + ": dispatch outside begin()/submit_and_wait()");
   const auto& layout = kernel.layout();
   const std::size_t buffer_bindings = layout.bindings.size();
-  const std::size_t image_end = buffer_bindings + layout.storage_images;
-  if (bindings.size() != image_end + layout.texel_buffers) {
+  if (bindings.size() != buffer_bindings + layout.storage_images) {
     throw GpuError("kernel " + kernel.name() + ": expects " +
-                   std::to_string(image_end + layout.texel_buffers) + " bindings, got " +
+                   std::to_string(buffer_bindings + layout.storage_images) + " bindings, got " +
                    std::to_string(bindings.size()));
   }
   std::vector<vk::DescriptorImageInfo> image_infos;
-  for (std::size_t b = buffer_bindings; b < image_end; ++b) {
+  for (std::size_t b = buffer_bindings; b < bindings.size(); ++b) {
     if (!bindings[b].image) {
       throw GpuError("kernel " + kernel.name() + ": binding " + std::to_string(b) +
                      " takes a storage image");
     }
     image_infos.emplace_back(nullptr, bindings[b].image->view(), vk::ImageLayout::eGeneral);
-  }
-  std::vector<vk::BufferView> texel_views;
-  std::uint64_t texel_bytes = 0;
-  for (std::size_t b = image_end; b < bindings.size(); ++b) {
-    if (!bindings[b].texels) {
-      throw GpuError("kernel " + kernel.name() + ": binding " + std::to_string(b) +
-                     " takes a texel buffer");
-    }
-    texel_views.push_back(bindings[b].texels->buffer->texel_view(bindings[b].texels->format));
-    texel_bytes += bindings[b].texels->buffer->size();
   }
   if (push_bytes != layout.push_constant_bytes) {
     throw GpuError("kernel " + kernel.name() + ": push constants are " +
@@ -85,22 +75,40 @@ void Sequence::dispatch(const Kernel& kernel, const std::vector<Binding>& bindin
     }
   }
   std::vector<std::vector<vk::DescriptorBufferInfo>> infos(buffer_bindings);
+  std::vector<std::vector<vk::BufferView>> views(buffer_bindings);
   std::uint64_t bound_bytes = 0;
   for (std::size_t b = 0; b < buffer_bindings; ++b) {
-    if (bindings[b].image || bindings[b].texels ||
-        bindings[b].buffers.size() != layout.bindings[b]) {
+    const BindingSlot& slot = layout.bindings[b];
+    const bool texels = slot.kind == BindingKind::kTexelBuffer;
+    const char* what = texels                                      ? " texel buffers"
+                       : slot.kind == BindingKind::kUniformBuffer ? " uniform buffers"
+                                                                   : " storage buffers";
+    if (bindings[b].image || bindings[b].texel_format.has_value() != texels ||
+        bindings[b].buffers.size() != slot.count) {
       throw GpuError("kernel " + kernel.name() + ": binding " + std::to_string(b) + " takes " +
-                     std::to_string(layout.bindings[b]) + " buffers, got " +
-                     std::to_string(bindings[b].buffers.size()));
+                     std::to_string(slot.count) + what + ", got " +
+                     std::to_string(bindings[b].buffers.size()) +
+                     (bindings[b].image ? " (a storage image)"
+                      : bindings[b].texel_format ? " texel buffers"
+                                                 : " buffers"));
     }
+    const std::uint64_t range = slot.kind == BindingKind::kStorageBuffer ? limits.max_storage_buffer_range
+                                : slot.kind == BindingKind::kUniformBuffer
+                                    ? limits.max_uniform_buffer_range
+                                    : ~std::uint64_t(0);  // texel_view checks its own limit
     for (const Buffer* buffer : bindings[b].buffers) {
-      if (buffer->size() > limits.max_storage_buffer_range) {
+      if (buffer->size() > range) {
         throw GpuError("kernel " + kernel.name() + ": binding " + std::to_string(b) + " is " +
-                       std::to_string(buffer->size() >> 20) +
-                       " MiB, over the device's maxStorageBufferRange of " +
-                       std::to_string(limits.max_storage_buffer_range >> 20) + " MiB");
+                       std::to_string(buffer->size()) + " bytes, over the device's " +
+                       (slot.kind == BindingKind::kStorageBuffer ? "maxStorageBufferRange"
+                                                                 : "maxUniformBufferRange") +
+                       " of " + std::to_string(range) + " bytes");
       }
-      infos[b].emplace_back(buffer->handle(), 0, VK_WHOLE_SIZE);
+      if (texels) {
+        views[b].push_back(buffer->texel_view(*bindings[b].texel_format));
+      } else {
+        infos[b].emplace_back(buffer->handle(), 0, VK_WHOLE_SIZE);
+      }
       bound_bytes += buffer->size();
     }
   }
@@ -112,17 +120,16 @@ void Sequence::dispatch(const Kernel& kernel, const std::vector<Binding>& bindin
   const vk::DescriptorSet set = sets[0].release();
   std::vector<vk::WriteDescriptorSet> writes;
   for (std::size_t b = 0; b < buffer_bindings; ++b) {
-    writes.emplace_back(set, std::uint32_t(b), 0, vk::DescriptorType::eStorageBuffer, nullptr,
-                        infos[b]);
+    const vk::DescriptorType type = descriptor_type(layout.bindings[b].kind);
+    if (type == vk::DescriptorType::eUniformTexelBuffer) {
+      writes.emplace_back(set, std::uint32_t(b), 0, type, nullptr, nullptr, views[b]);
+    } else {
+      writes.emplace_back(set, std::uint32_t(b), 0, type, nullptr, infos[b]);
+    }
   }
   for (std::size_t i = 0; i < image_infos.size(); ++i) {
     writes.emplace_back(set, std::uint32_t(buffer_bindings + i), 0, 1,
                         vk::DescriptorType::eStorageImage, &image_infos[i]);
-  }
-  for (std::size_t i = 0; i < texel_views.size(); ++i) {
-    writes.emplace_back(set, std::uint32_t(image_end + i), 0, 1,
-                        vk::DescriptorType::eUniformTexelBuffer, nullptr, nullptr,
-                        &texel_views[i]);
   }
   context_->device().updateDescriptorSets(writes, nullptr);
   const auto& cmd = commands_[0];
@@ -137,9 +144,8 @@ void Sequence::dispatch(const Kernel& kernel, const std::vector<Binding>& bindin
   }
   cmd.dispatch(groups[0], groups[1], groups[2]);
   if (CommandLog* log = context_->command_log()) {
-    for (std::size_t b = buffer_bindings; b < image_end; ++b)
+    for (std::size_t b = buffer_bindings; b < bindings.size(); ++b)
       bound_bytes += bindings[b].image->bytes();
-    bound_bytes += texel_bytes;
     const auto& local = layout.local_size;
     log->add_dispatch({.kernel = kernel.name(),
                        .stage = current_stage(),

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstring>
 #include <stdexcept>
+#include <string>
 
 namespace omnisweep::reproject {
 namespace {
@@ -38,77 +39,109 @@ gpu::KernelLayout inpaint_layout(std::uint32_t tile) {
 
 std::uint64_t pixels(const GpuCamera& c) { return std::uint64_t(c.width) * c.height; }
 
-// A kernel that projects, compiled for the source's and the target's camera models.
+// The model every layer's source (or target) has, or kAny.
+GpuModel layers_model(const std::vector<WarpLayer>& layers, bool target) {
+  std::vector<GpuCamera> cameras;
+  for (const WarpLayer& l : layers) cameras.push_back(target ? l.target : l.source);
+  return common_model(cameras);
+}
+
+// A kernel that projects, compiled for the layers' source and target camera models.
 gpu::Kernel camera_kernel(const gpu::Context& context, const char* shader,
-                          std::vector<std::uint32_t> bindings, std::uint32_t push_bytes,
-                          const GpuCamera& source, const GpuCamera& target) {
+                          std::vector<gpu::BindingSlot> bindings, std::uint32_t push_bytes,
+                          const std::vector<WarpLayer>& layers) {
   return gpu::Kernel(context, shader,
                      {.bindings = std::move(bindings),
                       .push_constant_bytes = push_bytes,
-                      .constants = model_constants(GpuModel(source.model), GpuModel(target.model))});
+                      .constants = model_constants(layers_model(layers, false),
+                                                   layers_model(layers, true))});
 }
-gpu::Kernel warp_kernel(const gpu::Context& context, const GpuCamera& source,
-                        const GpuCamera& target) {
-  return camera_kernel(context, "forward_warp", {1, 1, 1}, 4, source, target);
+gpu::Kernel warp_kernel(const gpu::Context& context, const std::vector<WarpLayer>& layers) {
+  return camera_kernel(context, "forward_warp", {1, 1, 1}, 4, layers);
 }
-gpu::Kernel directions_kernel(const gpu::Context& context, const GpuCamera& source,
-                              const GpuCamera& target) {
-  return camera_kernel(context, "inpaint_directions", {1, 1}, 8, source, target);
+gpu::Kernel directions_kernel(const gpu::Context& context, const std::vector<WarpLayer>& layers) {
+  return camera_kernel(context, "inpaint_directions", {1, 1}, 8, layers);
 }
-gpu::Kernel sample_colour_kernel(const gpu::Context& context, const GpuCamera& source,
-                                 const GpuCamera& target) {
-  return camera_kernel(context, "sample_view_colour", {1, 1, 1, 1, 1}, 4, source, target);
+gpu::Kernel sample_colour_kernel(const gpu::Context& context,
+                                 const std::vector<WarpLayer>& layers) {
+  return camera_kernel(context, "sample_view_colour", {1, 1, 1, 1, 1}, 4, layers);
+}
+
+const std::vector<WarpLayer>& checked(const std::vector<WarpLayer>& layers, bool colour) {
+  if (layers.empty()) throw std::invalid_argument("forward warp: no layers");
+  for (const WarpLayer& l : layers) {
+    if (l.source.width == 0 || l.target.width == 0)
+      throw std::invalid_argument("forward warp: empty source or target");
+    if (l.source.width != layers[0].source.width || l.source.height != layers[0].source.height ||
+        l.target.width != layers[0].target.width || l.target.height != layers[0].target.height) {
+      throw std::invalid_argument("forward warp: layers must share one source and one target size");
+    }
+  }
+  if (colour && layers.size() > 1)
+    throw std::invalid_argument("forward warp: colour needs a warper of one layer");
+  return layers;
 }
 
 }  // namespace
 
 ForwardWarper::ForwardWarper(gpu::Context& context, const GpuCamera& source,
                              const GpuCamera& target, const WarpOptions& options)
+    : ForwardWarper(context, std::vector<WarpLayer>{{source, target}}, options) {}
+
+ForwardWarper::ForwardWarper(gpu::Context& context, std::vector<WarpLayer> layers,
+                             const WarpOptions& options)
     : context_(&context),
-      source_(source),
-      target_(target),
+      layers_(std::move(checked(layers, options.colour))),
       options_(options),
-      cameras_(context, 2 * sizeof(GpuCamera)),
-      directions_(context, pixels(target) * 16),
-      buffers_{gpu::Buffer(context, pixels(target) * 4), gpu::Buffer(context, pixels(target) * 4)},
+      cameras_(context, 2 * layers_.size() * sizeof(GpuCamera)),
+      directions_(context, layers_.size() * pixels(target()) * 16),
+      buffers_{gpu::Buffer(context, layers_.size() * pixels(target()) * 4),
+               gpu::Buffer(context, layers_.size() * pixels(target()) * 4)},
       filled_(context, kMaxPasses * 4),
       tile_(inpaint_tile(context)),
-      warp_(warp_kernel(context, source, target)),
-      directions_kernel_(directions_kernel(context, source, target)),
+      warp_(warp_kernel(context, layers_)),
+      directions_kernel_(directions_kernel(context, layers_)),
       inpaint_(context, "directional_inpaint", inpaint_layout(tile_)) {
-  if (source.width == 0 || target.width == 0)
-    throw std::invalid_argument("forward warp: empty source or target");
   if (!(options.min_distance > 0) || !(options.max_distance > options.min_distance) ||
       options.inpaint_passes < 0 || options.inpaint_passes > kMaxPasses ||
       !(options.max_splat >= 1.0) ||
       !(options.occlusion_tolerance >= 0 && options.occlusion_tolerance < 1)) {
     throw std::invalid_argument(
         "forward warp: need 0 < min distance < max distance, inpaint passes in [0, 1024], max "
-        "splat "
-        ">= 1 "
-        "and 0 <= occlusion tolerance < 1");
+        "splat >= 1 and 0 <= occlusion tolerance < 1");
   }
   if (options.colour) {
-    colour_buffers_.emplace_back(context, pixels(target) * 4);
-    colour_buffers_.emplace_back(context, pixels(target) * 4);
-    sample_colour_.emplace(sample_colour_kernel(context, source, target));
+    colour_buffers_.emplace_back(context, pixels(target()) * 4);
+    colour_buffers_.emplace_back(context, pixels(target()) * 4);
+    sample_colour_.emplace(sample_colour_kernel(context, layers_));
     inpaint_colour_.emplace(context, "directional_inpaint_colour", inpaint_layout(tile_));
   }
-  set_target(target);
+  upload_cameras();
+}
+
+void ForwardWarper::upload_cameras() {
+  std::vector<GpuCamera> pairs;  // source, target of each layer
+  for (const WarpLayer& l : layers_) {
+    pairs.push_back(l.source);
+    pairs.push_back(l.target);
+  }
+  cameras_.upload(pairs.data(), pairs.size() * sizeof(GpuCamera));
+  directions_stale_ = true;
 }
 
 void ForwardWarper::set_target(const GpuCamera& target) {
-  if (target.width != target_.width || target.height != target_.height)
+  if (layers_.size() != 1)
+    throw std::logic_error("forward warp: set_target needs a warper of one layer");
+  if (target.width != this->target().width || target.height != this->target().height)
     throw std::invalid_argument("forward warp: set_target must keep the target's size");
-  if (target.model != target_.model) {  // the kernels were compiled for the other model
-    warp_ = warp_kernel(*context_, source_, target);
-    directions_kernel_ = directions_kernel(*context_, source_, target);
-    if (sample_colour_) sample_colour_.emplace(sample_colour_kernel(*context_, source_, target));
+  const bool recompile = target.model != this->target().model;
+  layers_[0].target = target;
+  if (recompile) {  // the kernels were compiled for the other model
+    warp_ = warp_kernel(*context_, layers_);
+    directions_kernel_ = directions_kernel(*context_, layers_);
+    if (sample_colour_) sample_colour_.emplace(sample_colour_kernel(*context_, layers_));
   }
-  target_ = target;
-  const GpuCamera pair[2] = {source_, target_};
-  cameras_.upload(pair, sizeof(pair));
-  directions_stale_ = true;
+  upload_cameras();
 }
 
 void ForwardWarper::set_inpaint_passes(int passes) {
@@ -120,12 +153,14 @@ void ForwardWarper::set_inpaint_passes(int passes) {
 void ForwardWarper::record_inpaint(gpu::Sequence& seq, const gpu::Kernel& kernel,
                                    gpu::Buffer* buffers, int first_pass, int passes,
                                    int* current) const {
-  const std::array<std::uint32_t, 3> groups = {(target_.width + tile_ - 1) / tile_,
-                                               (target_.height + tile_ - 1) / tile_, 1};
+  const GpuCamera& t = target();
+  const std::array<std::uint32_t, 3> groups = {(t.width + tile_ - 1) / tile_,
+                                               (t.height + tile_ - 1) / tile_,
+                                               std::uint32_t(layers_.size())};
+  const std::uint32_t wrap_x = t.model == std::uint32_t(GpuModel::kEquirectangular) ? 1u : 0u;
   for (int pass = first_pass; pass < first_pass + passes; pass += kPassesPerDispatch) {
     const int n = std::min(kPassesPerDispatch, first_pass + passes - pass);
-    const InpaintPush push{target_.width, target_.height, target_.model == std::uint32_t(GpuModel::kEquirectangular) ? 1u : 0u,
-                           std::uint32_t(pass), std::uint32_t(n)};
+    const InpaintPush push{t.width, t.height, wrap_x, std::uint32_t(pass), std::uint32_t(n)};
     seq.dispatch(kernel, {directions_, buffers[*current], buffers[1 - *current], filled_}, push,
                  groups);
     seq.barrier();
@@ -134,21 +169,22 @@ void ForwardWarper::record_inpaint(gpu::Sequence& seq, const gpu::Kernel& kernel
 }
 
 void ForwardWarper::record_warp(gpu::Sequence& seq, const gpu::Buffer& distance) {
-  if (distance.size() < pixels(source_) * 4) {
+  const auto count = std::uint32_t(layers_.size());
+  if (distance.size() < count * pixels(source()) * 4) {
     throw std::invalid_argument(
-        "forward warp: the distance buffer holds fewer than the source's pixels");
+        "forward warp: the distance buffer holds fewer than the sources' pixels");
   }
   if (directions_stale_) {
     const float push[2] = {float(options_.min_distance), float(options_.max_distance)};
     seq.dispatch(directions_kernel_, {cameras_, directions_}, push, sizeof(push),
-                 directions_kernel_.groups_for(target_.width, target_.height));
+                 directions_kernel_.groups_for(target().width, target().height, count));
     directions_stale_ = false;
   }
   seq.fill(buffers_[0], kEmpty);
   seq.barrier();
   const float splat = float(options_.max_splat);
   seq.dispatch(warp_, {cameras_, distance, buffers_[0]}, splat,
-               warp_.groups_for(source_.width, source_.height));
+               warp_.groups_for(source().width, source().height, count));
   seq.barrier();
   result_ = 0;
 }
@@ -189,11 +225,11 @@ int ForwardWarper::inpaint_until_filled(gpu::Sequence& seq, int max_passes, int 
 void ForwardWarper::record_colour_sample(gpu::Sequence& seq, const gpu::Buffer& distance,
                                          const gpu::Buffer& source_colour) {
   if (!options_.colour) throw std::logic_error("forward warp: colour needs WarpOptions::colour");
-  if (source_colour.size() < pixels(source_) * 4 || distance.size() < pixels(source_) * 4)
+  if (source_colour.size() < pixels(source()) * 4 || distance.size() < pixels(source()) * 4)
     throw std::invalid_argument("forward warp: a source buffer holds fewer than its pixels");
   const float tolerance = float(options_.occlusion_tolerance);
   seq.dispatch(*sample_colour_, {cameras_, result(), distance, source_colour, colour_buffers_[0]},
-               tolerance, sample_colour_->groups_for(target_.width, target_.height));
+               tolerance, sample_colour_->groups_for(target().width, target().height));
   seq.barrier();
   colour_result_ = 0;
 }
@@ -214,9 +250,12 @@ int ForwardWarper::inpaint_colour_until_filled(gpu::Sequence& seq, int max_passe
 
 const gpu::Buffer& ForwardWarper::result() const { return buffers_[result_]; }
 
-FloatImage ForwardWarper::download() const {
-  const std::vector<std::uint32_t> bits = result().download<std::uint32_t>();
-  FloatImage out(int(target_.width), int(target_.height), 1, 0.0f);
+FloatImage ForwardWarper::download(int layer) const {
+  if (layer < 0 || layer >= int(layers_.size()))
+    throw std::out_of_range("forward warp: no layer " + std::to_string(layer));
+  FloatImage out(int(target().width), int(target().height), 1, 0.0f);
+  std::vector<std::uint32_t> bits(out.size());
+  result().download(bits.data(), bits.size() * 4, std::size_t(layer) * bits.size() * 4);
   for (std::size_t i = 0; i < out.size(); ++i) {
     if (bits[i] != kEmpty) std::memcpy(&out.data()[i], &bits[i], 4);
   }
@@ -228,7 +267,7 @@ Rgb8Image ForwardWarper::download_colour() const {
     throw std::logic_error("forward warp: download_colour needs WarpOptions::colour");
   const std::vector<std::uint32_t> packed =
       colour_buffers_[colour_result_].download<std::uint32_t>();
-  Rgb8Image out(int(target_.width), int(target_.height), 3, 0);
+  Rgb8Image out(int(target().width), int(target().height), 3, 0);
   std::uint8_t* rgb = out.data();
   for (std::size_t p = 0; p < packed.size(); ++p) {
     for (int c = 0; c < 3; ++c) rgb[3 * p + c] = std::uint8_t(packed[p] >> (8 * c));

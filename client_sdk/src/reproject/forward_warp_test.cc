@@ -206,5 +206,53 @@ TEST_F(ForwardWarpTest, TiledInpaintingMatchesPassByPassInpainting) {
   }
 }
 
+// Layers (the stitcher's references) in each dispatch give each layer what a warper of its own
+// gives, bit for bit; layers of different sizes, or colour with layers, are refused.
+TEST_F(ForwardWarpTest, LayersWarpLikeSeparateWarpers) {
+  const CameraModel<double> pinhole = PinholeCamera<double>({kFocal, kFocal, kCentre, kCentre});
+  const GpuCamera source = pack_camera(pinhole, kSize, kSize, Rigid3d());
+  const std::vector<Eigen::Vector3d> shifts = {{-0.3, 0, 0}, {0.2, 0.1, 0}};
+  const WarpOptions options{.min_distance = 0.55, .max_distance = 100, .inpaint_passes = 32};
+  const gpu::Buffer one = source_distance(context());
+  // Both layers warp the same map: the sources side by side.
+  gpu::Buffer both(context(), 2 * one.size());
+  const std::vector<float> map = one.download<float>();
+  both.upload(std::span<const float>(map));
+  both.upload(std::span<const float>(map), one.size());
+
+  std::vector<WarpLayer> layers;
+  std::vector<FloatImage> alone;
+  for (const Eigen::Vector3d& shift : shifts) {
+    const GpuCamera target =
+        pack_camera(pinhole, kSize, kSize, Rigid3d(Eigen::Quaterniond::Identity(), shift));
+    layers.push_back({source, target});
+    ForwardWarper warper(context(), source, target, options);
+    gpu::Sequence seq(context());
+    seq.begin();
+    warper.record(seq, one);
+    seq.submit_and_wait();
+    alone.push_back(warper.download());
+  }
+  ForwardWarper layered(context(), layers, options);
+  EXPECT_EQ(layered.layers(), 2);
+  gpu::Sequence seq(context());
+  seq.begin();
+  layered.record(seq, both);
+  seq.submit_and_wait();
+  for (int l = 0; l < 2; ++l) {
+    const FloatImage got = layered.download(l);
+    EXPECT_EQ(std::memcmp(got.data(), alone[l].data(), got.size() * 4), 0) << "layer " << l;
+  }
+  EXPECT_THROW(layered.download(2), std::out_of_range);
+  EXPECT_THROW(layered.set_target(layers[0].target), std::logic_error);
+
+  layers[1].target.width = kSize / 2;
+  EXPECT_THROW(ForwardWarper(context(), layers, options), std::invalid_argument);
+  WarpOptions colour = options;
+  colour.colour = true;
+  layers[1].target.width = kSize;
+  EXPECT_THROW(ForwardWarper(context(), layers, colour), std::invalid_argument);
+}
+
 }  // namespace
 }  // namespace omnisweep::reproject

@@ -78,6 +78,8 @@ struct DeviceInfo {
   std::uint32_t max_storage_buffers_per_stage = 0;
   std::uint64_t max_texel_buffer_elements = 0;
   std::uint32_t max_sampled_images_per_stage = 0;  // uniform texel buffers count here
+  std::uint32_t max_uniform_buffers_per_stage = 0;
+  std::uint64_t max_uniform_buffer_range = 0;
   double timestamp_period_ns = 0;
   // storageBuffer16BitAccess (Vulkan 1.1): kernels may store 16-bit floats in buffers (the *_f16
   // volume kernels); enabled on the device whenever it is present.

@@ -1,6 +1,6 @@
 // One compute kernel: a pipeline built from embedded SPIR-V (shaders/<name>.comp), with storage
-// buffer bindings (each binding may be an array of buffers), then storage image bindings, then
-// uniform texel buffer bindings, push constants and specialization constants. Workgroup sizes are specialization constants 100, 101,
+// buffer bindings (storage, texel or uniform buffers; each binding may be an array), then storage
+// image bindings, push constants and specialization constants. Workgroup sizes are specialization constants 100, 101,
 // 102 (local_size_x_id etc. in the shader), so the host always knows them.
 #pragma once
 
@@ -29,17 +29,34 @@ struct SpecConstant {
   }
 };
 
+// What a buffer binding holds: storage buffers (read and written), uniform texel buffers (read
+// with texelFetch: a vector gather on CPU devices, the texture cache on GPUs; Buffer::texel_view)
+// or uniform buffers (small read-only records every invocation reads, such as cameras: one
+// scalar load on CPU devices, the constant cache on GPUs).
+enum class BindingKind { kStorageBuffer, kTexelBuffer, kUniformBuffer };
+
+// One binding of buffers: its kind and how many (1 for a plain buffer, N for an array).
+struct BindingSlot {
+  BindingKind kind = BindingKind::kStorageBuffer;
+  std::uint32_t count = 1;
+  BindingSlot(std::uint32_t storage_buffers) : count(storage_buffers) {}  // NOLINT: {1, 1, 8}
+  BindingSlot(BindingKind k, std::uint32_t n = 1) : kind(k), count(n) {}
+  static BindingSlot texels(std::uint32_t n = 1) { return {BindingKind::kTexelBuffer, n}; }
+  static BindingSlot uniform() { return {BindingKind::kUniformBuffer, 1}; }
+};
+
 struct KernelLayout {
-  // Number of storage buffers at each binding (1 for a plain buffer, N for an array).
-  std::vector<std::uint32_t> bindings;
+  // The buffer bindings in binding order; a plain number is that many storage buffers.
+  std::vector<BindingSlot> bindings;
   // Storage images, one per binding, at the binding numbers after the buffers.
   std::uint32_t storage_images = 0;
-  // Uniform texel buffers (read with texelFetch), one per binding, after the storage images.
-  std::uint32_t texel_buffers = 0;
   std::uint32_t push_constant_bytes = 0;
   std::array<std::uint32_t, 3> local_size = {8, 8, 1};
   std::vector<SpecConstant> constants;
 };
+
+// The Vulkan descriptor type of a binding kind.
+vk::DescriptorType descriptor_type(BindingKind kind);
 
 class Kernel {
  public:

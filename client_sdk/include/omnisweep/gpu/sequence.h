@@ -22,23 +22,27 @@
 
 namespace omnisweep::gpu {
 
-// A buffer read as a uniform texel buffer (Buffer::texel_view).
+// Buffers read as uniform texel buffers of one format (Buffer::texel_view): one, or an array
+// for bindings declared with a count > 1.
 struct Texels {
-  const Buffer* buffer;
+  std::vector<const Buffer*> buffers;
   TexelFormat format;
+  Texels(const Buffer& buffer, TexelFormat f) : buffers{&buffer}, format(f) {}
+  Texels(std::vector<const Buffer*> list, TexelFormat f) : buffers(std::move(list)), format(f) {}
 };
 
-// A binding: one buffer, an array of buffers for bindings declared with a count > 1, a storage
-// image, or a texel buffer.
+// A binding: one buffer, an array of buffers for bindings declared with a count > 1 (storage or
+// uniform buffers, as the kernel declares them), texel buffers, or a storage image.
 struct Binding {
   std::vector<const Buffer*> buffers;
   const Image* image = nullptr;
-  std::optional<Texels> texels;
+  std::optional<TexelFormat> texel_format;  // set for texel buffers
   Binding(const Buffer* buffer) : buffers{buffer} {}   // NOLINT: implicit for brace lists
   Binding(const Buffer& buffer) : buffers{&buffer} {}  // NOLINT
   Binding(std::vector<const Buffer*> list) : buffers(std::move(list)) {}  // NOLINT
   Binding(const Image& storage_image) : image(&storage_image) {}          // NOLINT
-  Binding(Texels texel_buffer) : texels(texel_buffer) {}                  // NOLINT
+  Binding(Texels texels)                                                   // NOLINT
+      : buffers(std::move(texels.buffers)), texel_format(texels.format) {}
 };
 
 class Sequence {

@@ -11,6 +11,10 @@
 //   ForwardWarper warper(context, source, target, {.min_distance = 0.55, .max_distance = 100});
 //   seq.begin(); warper.record(seq, distance_buffer); seq.submit_and_wait();
 //   FloatImage at_target = warper.download();  // 0 where nothing landed (after inpainting)
+//
+// A warper can also hold several warps of the same sizes ("layers", the stitcher's references):
+// each dispatch then covers every layer (z = layer), the source maps lie layer after layer in
+// one buffer and so do the results.
 #pragma once
 
 #include <optional>
@@ -37,20 +41,30 @@ struct WarpOptions {
   double occlusion_tolerance = 0.1;
 };
 
+// One warp of a layered ForwardWarper.
+struct WarpLayer {
+  GpuCamera source;
+  GpuCamera target;
+};
+
 class ForwardWarper {
  public:
   // `source.rows` must be the identity; `target.rows` hold target_from_source. The background
   // directions are computed by the first record(), and again after set_target().
   ForwardWarper(gpu::Context& context, const GpuCamera& source, const GpuCamera& target,
                 const WarpOptions& options);
+  // Several layers, all sources of one size and all targets of one size; not with
+  // WarpOptions::colour.
+  ForwardWarper(gpu::Context& context, std::vector<WarpLayer> layers, const WarpOptions& options);
 
-  // A new target camera or pose of the same size (a moving viewer). Not while a sequence that
-  // uses this warper is still running.
+  // A new target camera or pose of the same size (a moving viewer), for a warper of one layer.
+  // Not while a sequence that uses this warper is still running.
   void set_target(const GpuCamera& target);
+  int layers() const { return int(layers_.size()); }
   void set_inpaint_passes(int passes);
 
-  // Records: clear the z-buffer, warp `distance` (source width x height floats; <= 0 = none),
-  // inpaint. The result is valid after the sequence has run.
+  // Records: clear the z-buffer, warp `distance` (source width x height floats per layer, layer
+  // after layer; <= 0 = none), inpaint. The result is valid after the sequence has run.
   void record(gpu::Sequence& seq, const gpu::Buffer& distance);
   // Records, after record(): the colour of every target pixel sampled from `source_colour`
   // (source pixels packed as pack_rgba8 makes them) where the source sees that point, then the
@@ -70,10 +84,10 @@ class ForwardWarper {
                             const gpu::Buffer& source_colour);
   int inpaint_colour_until_filled(gpu::Sequence& seq, int max_passes, int batch, double* gpu_ms);
 
-  // Target width x height; bits of float distances, 0xffffffff where there is none.
+  // Target width x height per layer; bits of float distances, 0xffffffff where there is none.
   const gpu::Buffer& result() const;
-  // The result as distances, 0 where there is none.
-  FloatImage download() const;
+  // The result of `layer` as distances, 0 where there is none.
+  FloatImage download(int layer = 0) const;
   // The colour after record_colour, black where nothing could be filled.
   Rgb8Image download_colour() const;
 
@@ -81,9 +95,9 @@ class ForwardWarper {
   // shaders/include/inpaint.glsl), as the last record computed them: for checks of inpainting.
   const gpu::Buffer& directions() const { return directions_; }
 
-  int target_width() const { return int(target_.width); }
-  int target_height() const { return int(target_.height); }
-  const GpuCamera& target() const { return target_; }
+  int target_width() const { return int(target().width); }
+  int target_height() const { return int(target().height); }
+  const GpuCamera& target() const { return layers_[0].target; }
 
  private:
   // Records passes [first_pass, first_pass + passes), kPassesPerDispatch to a dispatch, from
@@ -93,9 +107,11 @@ class ForwardWarper {
   int run_until_filled(gpu::Sequence& seq, const gpu::Kernel& kernel, gpu::Buffer* buffers,
                        int max_passes, int batch, double* gpu_ms, int* current);
 
+  const GpuCamera& source() const { return layers_[0].source; }
+  void upload_cameras();
+
   gpu::Context* context_;
-  GpuCamera source_;
-  GpuCamera target_;
+  std::vector<WarpLayer> layers_;
   WarpOptions options_;
   bool directions_stale_ = true;
   gpu::Buffer cameras_;
