@@ -77,6 +77,7 @@ void Sequence::dispatch(const Kernel& kernel, const std::vector<Binding>& bindin
   std::vector<std::vector<vk::DescriptorBufferInfo>> infos(buffer_bindings);
   std::vector<std::vector<vk::BufferView>> views(buffer_bindings);
   std::uint64_t bound_bytes = 0;
+  std::vector<const Buffer*> counted;  // a buffer bound twice (written, and read as texels) once
   for (std::size_t b = 0; b < buffer_bindings; ++b) {
     const BindingSlot& slot = layout.bindings[b];
     const bool texels = slot.kind == BindingKind::kTexelBuffer;
@@ -109,7 +110,10 @@ void Sequence::dispatch(const Kernel& kernel, const std::vector<Binding>& bindin
       } else {
         infos[b].emplace_back(buffer->handle(), 0, VK_WHOLE_SIZE);
       }
-      bound_bytes += buffer->size();
+      if (std::find(counted.begin(), counted.end(), buffer) == counted.end()) {
+        counted.push_back(buffer);
+        bound_bytes += buffer->size();
+      }
     }
   }
   // Everything is checked: allocate the set and hand it to the pool at once (the pool frees it

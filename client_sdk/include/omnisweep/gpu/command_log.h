@@ -18,8 +18,9 @@ struct DispatchRecord {
   std::string stage;  // the Sequence stage open when it was recorded ("" outside stages)
   std::array<std::uint32_t, 3> groups = {0, 0, 0};
   std::uint64_t invocations = 0;  // workgroups x local size
-  // Bytes of the buffers and images bound (each binding's whole range, once): what the dispatch
-  // may read or write through global memory.
+  // Bytes of the buffers and images bound (each binding's whole range; a buffer bound twice,
+  // such as written as a storage buffer and read as a texel buffer, once): what the dispatch may
+  // read or write through global memory.
   std::uint64_t bound_bytes = 0;
 };
 
