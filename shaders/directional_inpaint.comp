@@ -8,8 +8,8 @@ layout(local_size_x_id = 100, local_size_y_id = 101, local_size_z_id = 102) in;
 
 #include "inpaint.glsl"
 
-layout(std430, set = 0, binding = 0) readonly buffer Directions { Direction directions[]; };
-layout(std430, set = 0, binding = 1) readonly buffer Source { uint source[]; };
+layout(set = 0, binding = 0) uniform usamplerBuffer directions;  // Direction records (inpaint.glsl)
+layout(set = 0, binding = 1) uniform usamplerBuffer source;
 layout(std430, set = 0, binding = 2) writeonly buffer Destination { uint destination[]; };
 // filled[pass] becomes 1 when that pass filled any pixel; a pass that fills none has reached the
 // fixed point, so the caller may stop (Reprojector does; the stitcher runs a fixed count).

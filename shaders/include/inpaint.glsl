@@ -8,6 +8,17 @@ struct Direction {
   uint unused;
 };
 
+// Direction records are read through a texel buffer of RGBA32UI texels (one gather of the whole
+// record where a storage-buffer load would fetch its four words lane by lane on a CPU device).
+Direction direction_at(usamplerBuffer records, int index) {
+  const uvec4 v = texelFetch(records, index);
+  return Direction(v.x, uintBitsToFloat(v.y), uintBitsToFloat(v.z), v.w);
+}
+
+// Whether a direction record names any neighbour: pixels without one (outside the target's
+// valid rays) can never be filled.
+bool has_neighbour(Direction d) { return (d.codes & 0xffu) <= 7u; }
+
 const ivec2 kNeighbours[8] = ivec2[8](ivec2(1, 0), ivec2(1, 1), ivec2(0, 1), ivec2(-1, 1), ivec2(-1, 0),
                                       ivec2(-1, -1), ivec2(0, -1), ivec2(1, -1));
 

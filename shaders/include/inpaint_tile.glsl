@@ -4,11 +4,13 @@
 // reads only 8-neighbours, so after p passes the outer p rings of the loaded region are stale and
 // the tile itself is exact after kHalo. One dispatch replaces kHalo, so the image is read and
 // written once per kHalo passes instead of once per pass. A tile without holes skips the passes,
-// and a pass that changes nothing in the region ends them (every later pass would repeat it).
+// and a pass that changes nothing in the region ends them (every later pass would repeat it). A
+// tile without holes it could fill (empty pixels that have a direction) is copied through first,
+// without its halo and without shared memory: most tiles are.
 // The workgroup's z is the layer: plane z of the directions, source and destination.
 //
-// The including shader declares the bindings Directions `directions`, Source `source`,
-// Destination `destination`, Filled `filled` and the push constants (width, height, wrap_x, pass,
+// The including shader declares the texel buffers `directions` (inpaint.glsl) and `source`, the
+// storage buffers Destination `destination` and Filled `filled` and the push constants (width, height, wrap_x, pass,
 // passes), and defines, before including this file:
 //   bool is_empty(uint value);
 //   uint blend(uint v0, float w0, uint v1, float w1);  // a neighbour with w = 0 is absent
@@ -22,7 +24,7 @@ const uint kRegionPixels = kRegion * kRegion;
 shared uint tile_values[2u * kRegionPixels];
 // Whether pass p changed anything in the region, in slot p % 3 (three slots, so a slot is reset
 // only when no invocation can still read or write it); slot 0 first says whether the tile has a
-// hole at all.
+// hole to fill at all.
 shared uint tile_changed[3];
 
 bool in_tile(uvec2 r) {
@@ -42,18 +44,35 @@ void inpaint_tile() {
   const uint lid = gl_LocalInvocationIndex;
   if (lid < 3u) tile_changed[lid] = 0u;
   barrier();
+  bool hole = false;
+  for (uint i = lid; i < kTile * kTile; i += threads) {
+    ivec2 g;
+    if (!image_pixel(uvec2(kHalo + i % kTile, kHalo + i / kTile), g)) continue;
+    const int index = layer_base + g.y * int(push.width) + g.x;
+    if (is_empty(texelFetch(source, index).x) && has_neighbour(direction_at(directions, index)))
+      hole = true;
+  }
+  if (hole) atomicOr(tile_changed[0], 1u);
+  barrier();
+  if (tile_changed[0] == 0u) {  // the same in every invocation
+    for (uint i = lid; i < kTile * kTile; i += threads) {
+      ivec2 g;
+      if (!image_pixel(uvec2(kHalo + i % kTile, kHalo + i / kTile), g)) continue;
+      const int index = layer_base + g.y * int(push.width) + g.x;
+      destination[index] = texelFetch(source, index).x;
+    }
+    return;
+  }
   for (uint i = lid; i < kRegionPixels; i += threads) {
     const uvec2 r = uvec2(i % kRegion, i / kRegion);
     ivec2 g;
     const bool inside = image_pixel(r, g);
-    const uint value = inside ? source[layer_base + g.y * int(push.width) + g.x] : kEmptyValue;
-    tile_values[i] = value;
-    if (inside && in_tile(r) && is_empty(value)) atomicOr(tile_changed[0], 1u);
+    tile_values[i] = inside ? texelFetch(source, layer_base + g.y * int(push.width) + g.x).x
+                            : kEmptyValue;
   }
   barrier();
   uint current = 0u;
-  const uint passes = tile_changed[0] != 0u ? push.passes : 0u;  // the same in every invocation
-  for (uint p = 0u; p < passes; ++p) {
+  for (uint p = 0u; p < push.passes; ++p) {
     const uint from = current * kRegionPixels, to = (1u - current) * kRegionPixels;
     if (lid == 0u) tile_changed[(p + 1u) % 3u] = 0u;
     bool changed = false;
@@ -66,7 +85,7 @@ void inpaint_tile() {
       ivec2 g;
       if (is_empty(value) && r.x >= lo && r.x <= hi && r.y >= lo && r.y <= hi &&
           image_pixel(r, g)) {
-        const Direction d = directions[layer_base + g.y * int(push.width) + g.x];
+        const Direction d = direction_at(directions, layer_base + g.y * int(push.width) + g.x);
         uint neighbour[2] = uint[2](kEmptyValue, kEmptyValue);
         float weight[2] = float[2](0.0, 0.0);
         for (uint k = 0u; k < 2u; ++k) {

@@ -1,6 +1,7 @@
 #include "omnisweep/reproject/forward_warp.h"
 
 #include <algorithm>
+#include <cstdlib>
 #include <cstring>
 #include <stdexcept>
 #include <string>
@@ -30,7 +31,7 @@ std::uint32_t inpaint_tile(const gpu::Context& context) {
 }
 
 gpu::KernelLayout inpaint_layout(std::uint32_t tile) {
-  return {.bindings = {1, 1, 1, 1},
+  return {.bindings = {gpu::BindingSlot::texels(), gpu::BindingSlot::texels(), 1, 1},
           .storage_images = 0,
           .push_constant_bytes = sizeof(InpaintPush),
           .local_size = {kInpaintGroup, kInpaintGroup, 1},
@@ -161,8 +162,11 @@ void ForwardWarper::record_inpaint(gpu::Sequence& seq, const gpu::Kernel& kernel
   for (int pass = first_pass; pass < first_pass + passes; pass += kPassesPerDispatch) {
     const int n = std::min(kPassesPerDispatch, first_pass + passes - pass);
     const InpaintPush push{t.width, t.height, wrap_x, std::uint32_t(pass), std::uint32_t(n)};
-    seq.dispatch(kernel, {directions_, buffers[*current], buffers[1 - *current], filled_}, push,
-                 groups);
+    seq.dispatch(kernel,
+                 {gpu::Texels(directions_, gpu::TexelFormat::kRgba32Uint),
+                  gpu::Texels(buffers[*current], gpu::TexelFormat::kR32Uint),
+                  buffers[1 - *current], filled_},
+                 push, groups);
     seq.barrier();
     *current = 1 - *current;
   }
@@ -191,6 +195,7 @@ void ForwardWarper::record_warp(gpu::Sequence& seq, const gpu::Buffer& distance)
 
 void ForwardWarper::record(gpu::Sequence& seq, const gpu::Buffer& distance) {
   record_warp(seq, distance);
+  if (getenv("ISB_STAGES")) seq.begin_stage("inpaint");
   record_inpaint(seq, inpaint_, buffers_, 0, options_.inpaint_passes, &result_);
 }
 
