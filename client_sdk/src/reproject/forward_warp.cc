@@ -1,7 +1,6 @@
 #include "omnisweep/reproject/forward_warp.h"
 
 #include <algorithm>
-#include <cstdlib>
 #include <cstring>
 #include <stdexcept>
 #include <string>
@@ -195,7 +194,6 @@ void ForwardWarper::record_warp(gpu::Sequence& seq, const gpu::Buffer& distance)
 
 void ForwardWarper::record(gpu::Sequence& seq, const gpu::Buffer& distance) {
   record_warp(seq, distance);
-  if (getenv("ISB_STAGES")) seq.begin_stage("inpaint");
   record_inpaint(seq, inpaint_, buffers_, 0, options_.inpaint_passes, &result_);
 }
 
