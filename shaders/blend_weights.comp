@@ -10,7 +10,7 @@ layout(local_size_x_id = 100, local_size_y_id = 101, local_size_z_id = 102) in;
 #include "camera.glsl"
 
 // Per reference k: cameras[2k] at the matching resolution, rows [cam_from_rig rotation | t_c].
-layout(std430, set = 0, binding = 0) readonly buffer Cameras { Camera cameras[]; };
+CAMERA_RECORDS(0)
 layout(std430, set = 0, binding = 1) readonly buffer Masks { float masks[]; };  // smoothed, per reference
 layout(std430, set = 0, binding = 2) writeonly buffer Weights { float weights[]; };  // per reference, panorama
 layout(push_constant) uniform Push {

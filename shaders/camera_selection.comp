@@ -10,7 +10,7 @@ layout(local_size_x_id = 100, local_size_y_id = 101, local_size_z_id = 102) in;
 #include "pixels.glsl"
 
 // Per reference slot: num_cameras records, the reference's frame to each camera's.
-layout(std430, set = 0, binding = 0) readonly buffer Cameras { Camera cameras[]; };
+CAMERA_RECORDS(0)
 layout(std430, set = 0, binding = 1) readonly buffer Masks { uint masks[]; };  // bytes, camera-major
 layout(std430, set = 0, binding = 2) writeonly buffer Selection { int selection[]; };  // per slot
 layout(push_constant) uniform Push {

@@ -18,7 +18,7 @@ layout(local_size_x_id = 100, local_size_y_id = 101, local_size_z_id = 102) in;
 
 #include "camera.glsl"
 
-layout(std430, set = 0, binding = 0) readonly buffer Cameras { Camera cameras[]; };  // source, target per layer
+CAMERA_RECORDS(0)  // source, target per layer
 layout(std430, set = 0, binding = 1) readonly buffer Distance { float distance_map[]; };
 layout(std430, set = 0, binding = 2) buffer ZBuffer { uint zbuffer[]; };
 layout(push_constant) uniform Push {

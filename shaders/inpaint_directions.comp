@@ -10,7 +10,7 @@ layout(local_size_x_id = 100, local_size_y_id = 101, local_size_z_id = 102) in;
 #include "camera.glsl"
 #include "inpaint.glsl"
 
-layout(std430, set = 0, binding = 0) readonly buffer Cameras { Camera cameras[]; };  // source, target
+CAMERA_RECORDS(0)  // source, target
 layout(std430, set = 0, binding = 1) writeonly buffer Directions { Direction directions[]; };
 layout(push_constant) uniform Push {
   float d_min;

@@ -11,7 +11,7 @@ layout(local_size_x_id = 100, local_size_y_id = 101, local_size_z_id = 102) in;
 #include "camera.glsl"
 #include "pixels.glsl"
 
-layout(std430, set = 0, binding = 0) readonly buffer Cameras { Camera cameras[]; };  // source, target
+CAMERA_RECORDS(0)  // source, target
 layout(std430, set = 0, binding = 1) readonly buffer Warped { uint warped[]; };  // target, float bits
 layout(std430, set = 0, binding = 2) readonly buffer SourceDistance { float source_distance[]; };
 layout(std430, set = 0, binding = 3) readonly buffer SourceColour { uint source_colour[]; };

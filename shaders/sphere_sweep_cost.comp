@@ -15,7 +15,7 @@ layout(local_size_x_id = 100, local_size_y_id = 101, local_size_z_id = 102) in;
 #include "volume.glsl"
 
 // Per reference (first + slot): num_cameras records, the reference's frame to each camera's.
-layout(std430, set = 0, binding = 0) readonly buffer Cameras { Camera cameras[]; };
+CAMERA_RECORDS(0)
 layout(set = 0, binding = 1) uniform usamplerBuffer images;  // RGBA8 texels, camera-major
 layout(std430, set = 0, binding = 2) readonly buffer Selection { int selection[]; };  // per reference
 layout(std430, set = 0, binding = 3) writeonly buffer Volume { VOLUME_T v[]; } volume[kMaxChunks];

@@ -13,7 +13,7 @@ layout(local_size_x_id = 100, local_size_y_id = 101, local_size_z_id = 102) in;
 
 // Per reference k: cameras[2k] is its camera at the matching resolution with rows
 // [cam_from_rig rotation | t_c]; cameras[2k + 1] its camera at the colour resolution.
-layout(std430, set = 0, binding = 0) readonly buffer Cameras { Camera cameras[]; };
+CAMERA_RECORDS(0)
 layout(std430, set = 0, binding = 1) readonly buffer Weights { float weights[]; };    // per reference, panorama
 layout(std430, set = 0, binding = 2) readonly buffer Warped { uint warped[]; };       // per reference, matching
 layout(std430, set = 0, binding = 3) readonly buffer Original { float original[]; };  // per reference, matching

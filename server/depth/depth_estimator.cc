@@ -39,6 +39,7 @@ gpu::KernelLayout with_rig_model(gpu::KernelLayout layout, const Rig& rig) {
 const Rig& checked(const Rig& rig, const DepthOptions& options) {
   options.check(rig.num_cameras());
   rig.check();
+  reproject::check_camera_records(options.references.size() * rig.num_cameras());
   for (int c = 0; c < rig.num_cameras(); ++c) {
     if (rig.cameras[c].width != options.matching_width ||
         rig.cameras[c].height != options.matching_height) {
@@ -92,14 +93,15 @@ DepthEstimator::DepthEstimator(gpu::Context& context, const Rig& rig,
       height_(options.matching_height),
       layout_(plan_group(context, options)),
       selection_kernel_(context, "camera_selection",
-                        {.bindings = {1, 1, 1},
+                        {.bindings = {reproject::camera_binding(), 1, 1},
                          .push_constant_bytes = sizeof(SelectionPush),
                          .constants = reproject::model_constants(reproject::common_model(rig))}),
       guide_kernel_(context, "ycbcr_guide",
                     {.bindings = {BindingSlot::texels(), 1},
                      .push_constant_bytes = sizeof(GuidePush)}),
       sweep_kernel_(context, volume_shader("sphere_sweep_cost", layout_),
-                    with_rig_model(volume_kernel_layout({1, BindingSlot::texels(), 1, kMaxChunks},
+                    with_rig_model(volume_kernel_layout({reproject::camera_binding(),
+                                                         BindingSlot::texels(), 1, kMaxChunks},
                                                         sizeof(SweepPush), layout_),
                                    rig)),
       wta_kernel_(context, "winner_take_all",

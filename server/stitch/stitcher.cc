@@ -57,7 +57,7 @@ Stitcher::Stitcher(gpu::Context& context, const Rig& matching_rig, const Rig& co
       out_colour_(context, std::uint64_t(options.panorama_width) * options.panorama_height * 4),
       out_distance_(context, std::uint64_t(options.panorama_width) * options.panorama_height * 4),
       merge_(context, "stitch_merge",
-             {.bindings = {1, 1, 1, 1, 1, 1, 1},
+             {.bindings = {reproject::camera_binding(), 1, 1, 1, 1, 1, 1},
               .push_constant_bytes = sizeof(MergePush),
               .constants = reproject::model_constants(merge_model(matching_rig, colour_rig))}),
       sequence_(context) {
@@ -120,7 +120,7 @@ void Stitcher::compute_weights(const std::vector<std::optional<Gray8Image>>& usa
                         {.bindings = {1, 1}, .push_constant_bytes = sizeof(BoxPush)});
   const gpu::Kernel raw(
       context, "blend_weights",
-      {.bindings = {1, 1, 1},
+      {.bindings = {reproject::camera_binding(), 1, 1},
        .push_constant_bytes = sizeof(WeightsPush),
        .constants = reproject::model_constants(reproject::common_model(matching_rig_))});
   const gpu::Kernel normalise(context, "normalize_weights",

@@ -35,6 +35,15 @@ struct Camera {
   uint height;
 };
 
+// Kernels read camera records from a uniform buffer, declared by CAMERA_RECORDS(binding): every
+// invocation reads the same few records, which a CPU device loads once as scalars (a storage
+// buffer would be read lane by lane) and a GPU serves from its constant cache. Its std140 layout
+// of Camera is the std430 one (reproject::GpuCamera, 96 bytes); 170 records fill the 16 KiB
+// every Vulkan device allows a uniform buffer (reproject::kMaxCameraRecords).
+const uint kMaxCameraRecords = 170u;
+#define CAMERA_RECORDS(index) \
+  layout(std140, set = 0, binding = index) uniform Cameras { Camera cameras[kMaxCameraRecords]; };
+
 vec3 to_camera(Camera c, vec3 p) {
   return vec3(dot(c.row0.xyz, p) + c.row0.w, dot(c.row1.xyz, p) + c.row1.w, dot(c.row2.xyz, p) + c.row2.w);
 }

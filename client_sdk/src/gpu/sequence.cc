@@ -1,13 +1,29 @@
 #include "omnisweep/gpu/sequence.h"
 
 #include <algorithm>
+#include <cstdlib>
+#include <string>
 
 #include "omnisweep/gpu/command_log.h"
 
 namespace omnisweep::gpu {
 
+namespace {
+
+// OMNISWEEP_PROFILE_KERNELS=1: every dispatch is timed as a stage of its own, named
+// "<stage>/<kernel>" (same names summed), for finding where a frame's GPU time goes.
+bool profile_kernels() {
+  const char* v = std::getenv("OMNISWEEP_PROFILE_KERNELS");
+  return v && std::string(v) == "1";
+}
+
+}  // namespace
+
 Sequence::Sequence(const Context& context, std::uint32_t max_dispatches, std::uint32_t max_stages)
-    : context_(&context), max_stages_(max_stages) {
+    : context_(&context),
+      profile_kernels_(profile_kernels()),
+      max_stages_(profile_kernels_ ? std::max(max_stages, 2 * max_dispatches) : max_stages) {
+  max_stages = max_stages_;
   const std::array<vk::DescriptorPoolSize, 4> sizes = {
       vk::DescriptorPoolSize(vk::DescriptorType::eStorageBuffer, max_dispatches * 24),
       vk::DescriptorPoolSize(vk::DescriptorType::eStorageImage, max_dispatches * 4),
@@ -146,7 +162,13 @@ void Sequence::dispatch(const Kernel& kernel, const std::vector<Binding>& bindin
     cmd.pushConstants<std::uint8_t>(kernel.pipeline_layout(), vk::ShaderStageFlagBits::eCompute, 0,
                                     bytes);
   }
+  std::string stage;
+  if (profile_kernels_) {
+    stage = stage_open_ ? stage_names_.back() : std::string();
+    begin_stage(stage + "/" + kernel.name());
+  }
   cmd.dispatch(groups[0], groups[1], groups[2]);
+  if (profile_kernels_) begin_stage(stage);
   if (CommandLog* log = context_->command_log()) {
     for (std::size_t b = buffer_bindings; b < bindings.size(); ++b)
       bound_bytes += bindings[b].image->bytes();

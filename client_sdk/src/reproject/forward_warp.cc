@@ -57,14 +57,14 @@ gpu::Kernel camera_kernel(const gpu::Context& context, const char* shader,
                                                    layers_model(layers, true))});
 }
 gpu::Kernel warp_kernel(const gpu::Context& context, const std::vector<WarpLayer>& layers) {
-  return camera_kernel(context, "forward_warp", {1, 1, 1}, 4, layers);
+  return camera_kernel(context, "forward_warp", {camera_binding(), 1, 1}, 4, layers);
 }
 gpu::Kernel directions_kernel(const gpu::Context& context, const std::vector<WarpLayer>& layers) {
-  return camera_kernel(context, "inpaint_directions", {1, 1}, 8, layers);
+  return camera_kernel(context, "inpaint_directions", {camera_binding(), 1}, 8, layers);
 }
 gpu::Kernel sample_colour_kernel(const gpu::Context& context,
                                  const std::vector<WarpLayer>& layers) {
-  return camera_kernel(context, "sample_view_colour", {1, 1, 1, 1, 1}, 4, layers);
+  return camera_kernel(context, "sample_view_colour", {camera_binding(), 1, 1, 1, 1}, 4, layers);
 }
 
 const std::vector<WarpLayer>& checked(const std::vector<WarpLayer>& layers, bool colour) {
@@ -79,6 +79,7 @@ const std::vector<WarpLayer>& checked(const std::vector<WarpLayer>& layers, bool
   }
   if (colour && layers.size() > 1)
     throw std::invalid_argument("forward warp: colour needs a warper of one layer");
+  check_camera_records(2 * layers.size());
   return layers;
 }
 

@@ -72,6 +72,14 @@ std::vector<GpuCamera> pack_cameras(const Rig& rig, int reference) {
   return out;
 }
 
+void check_camera_records(std::size_t records) {
+  if (records > kMaxCameraRecords) {
+    throw std::invalid_argument(std::to_string(records) + " camera records for one kernel, at most " +
+                                std::to_string(kMaxCameraRecords) +
+                                " are supported (cameras x references)");
+  }
+}
+
 GpuModel common_model(std::span<const GpuCamera> cameras) {
   if (cameras.empty()) return GpuModel::kAny;
   for (const GpuCamera& c : cameras) {

@@ -86,6 +86,7 @@ class Sequence {
   std::string current_stage() const;  // the open stage's name, "" when none
 
   const Context* context_;
+  bool profile_kernels_;  // OMNISWEEP_PROFILE_KERNELS=1 (sequence.cc)
   std::uint32_t max_stages_;
   vk::raii::DescriptorPool pool_{nullptr};
   vk::raii::CommandPool command_pool_{nullptr};  // its own, so sequences record on any thread

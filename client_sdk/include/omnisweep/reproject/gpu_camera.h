@@ -34,6 +34,13 @@ struct GpuCamera {
 };
 static_assert(sizeof(GpuCamera) == 96, "must match the std430 layout of struct Camera");
 
+// Camera records one kernel can read (its uniform buffer, shaders/include/camera.glsl).
+inline constexpr std::size_t kMaxCameraRecords = 170;
+// The camera binding of a kernel (a uniform buffer).
+inline gpu::BindingSlot camera_binding() { return gpu::BindingSlot::uniform(); }
+// Throws std::invalid_argument when `records` camera records exceed kMaxCameraRecords.
+void check_camera_records(std::size_t records);
+
 // RGB8 pixels as the shaders read them (pixels.glsl): one uint per pixel, r in the lowest
 // byte, alpha 255. `out` must hold width x height values.
 void pack_rgba8(const Rgb8Image& rgb, std::span<std::uint32_t> out);
