@@ -14,6 +14,8 @@ layout(std430, set = 0, binding = 2) writeonly buffer Destination { uint destina
 // filled[pass] becomes 1 when that pass filled any pixel; a pass that fills none has reached the
 // fixed point, so the caller may stop (Reprojector does; the stitcher runs a fixed count).
 layout(std430, set = 0, binding = 3) buffer Filled { uint filled[]; };
+// Per tile and layer, whether later dispatches may skip it (inpaint_tile.glsl).
+layout(std430, set = 0, binding = 4) buffer Status { uint tile_status[]; };
 layout(push_constant) uniform Push {
   uint width;
   uint height;

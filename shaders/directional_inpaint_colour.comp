@@ -14,6 +14,8 @@ layout(set = 0, binding = 1) uniform usamplerBuffer source;
 layout(std430, set = 0, binding = 2) writeonly buffer Destination { uint destination[]; };
 // filled[pass] becomes 1 when that pass filled any pixel (see directional_inpaint.comp).
 layout(std430, set = 0, binding = 3) buffer Filled { uint filled[]; };
+// Per tile and layer, whether later dispatches may skip it (inpaint_tile.glsl).
+layout(std430, set = 0, binding = 4) buffer Status { uint tile_status[]; };
 layout(push_constant) uniform Push {
   uint width;
   uint height;

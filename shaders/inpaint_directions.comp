@@ -38,7 +38,7 @@ void main() {
       float best0 = 0.0, best1 = 0.0;
       uint code0 = 0xffu, code1 = 0xffu;
       for (uint k = 0u; k < 8u; ++k) {
-        const float dot_k = dot(normalize(vec2(kNeighbours[k])), dir);
+        const float dot_k = dot(normalize(vec2(neighbour_offset(k))), dir);
         if (dot_k > best0) {
           best1 = best0;
           code1 = code0;

@@ -19,15 +19,22 @@ Direction direction_at(usamplerBuffer records, int index) {
 // valid rays) can never be filled.
 bool has_neighbour(Direction d) { return (d.codes & 0xffu) <= 7u; }
 
-const ivec2 kNeighbours[8] = ivec2[8](ivec2(1, 0), ivec2(1, 1), ivec2(0, 1), ivec2(-1, 1), ivec2(-1, 0),
-                                      ivec2(-1, -1), ivec2(0, -1), ivec2(1, -1));
+// Neighbour offsets by code 0-7: (1, 0), (1, 1), (0, 1), (-1, 1), (-1, 0), (-1, -1), (0, -1),
+// (1, -1), i.e. counter-clockwise from +x. Packed as 2 bits of dx + 1 and dy + 1 per code and
+// unpacked by shifts (a constant array indexed at run time would sit in per-lane memory on a CPU
+// device).
+const uint kNeighbourDx = 0x901Au;  // dx + 1 of codes 7..0: 2 1 0 0 0 1 2 2
+const uint kNeighbourDy = 0x01A9u;  // dy + 1 of codes 7..0: 0 0 0 1 2 2 2 1
+ivec2 neighbour_offset(uint code) {
+  return ivec2(int((kNeighbourDx >> (2u * code)) & 3u), int((kNeighbourDy >> (2u * code)) & 3u)) - 1;
+}
 
 // Index of neighbour k (0 or 1) of pixel q in `d`, or -1 when there is none or it lies outside
 // the image (panoramas wrap around horizontally when wrap_x is set).
 int inpaint_neighbour(Direction d, uint k, uvec2 q, uint width, uint height, uint wrap_x) {
   const uint code = (d.codes >> (8u * k)) & 0xffu;
   if (code > 7u) return -1;
-  ivec2 n = ivec2(q) + kNeighbours[code];
+  ivec2 n = ivec2(q) + neighbour_offset(code);
   if (wrap_x != 0u) n.x = (n.x + int(width)) % int(width);
   if (n.x < 0 || n.y < 0 || n.x >= int(width) || n.y >= int(height)) return -1;
   return n.y * int(width) + n.x;

@@ -30,7 +30,7 @@ std::uint32_t inpaint_tile(const gpu::Context& context) {
 }
 
 gpu::KernelLayout inpaint_layout(std::uint32_t tile) {
-  return {.bindings = {gpu::BindingSlot::texels(), gpu::BindingSlot::texels(), 1, 1},
+  return {.bindings = {gpu::BindingSlot::texels(), gpu::BindingSlot::texels(), 1, 1, 1},
           .storage_images = 0,
           .push_constant_bytes = sizeof(InpaintPush),
           .local_size = {kInpaintGroup, kInpaintGroup, 1},
@@ -100,6 +100,8 @@ ForwardWarper::ForwardWarper(gpu::Context& context, std::vector<WarpLayer> layer
                gpu::Buffer(context, layers_.size() * pixels(target()) * 4)},
       filled_(context, kMaxPasses * 4),
       tile_(inpaint_tile(context)),
+      tile_status_(context, std::uint64_t((target().width + tile_ - 1) / tile_) *
+                                ((target().height + tile_ - 1) / tile_) * layers_.size() * 2 * 4),
       warp_(warp_kernel(context, layers_)),
       directions_kernel_(directions_kernel(context, layers_)),
       inpaint_(context, "directional_inpaint", inpaint_layout(tile_)) {
@@ -165,7 +167,7 @@ void ForwardWarper::record_inpaint(gpu::Sequence& seq, const gpu::Kernel& kernel
     seq.dispatch(kernel,
                  {gpu::Texels(directions_, gpu::TexelFormat::kRgba32Uint),
                   gpu::Texels(buffers[*current], gpu::TexelFormat::kR32Uint),
-                  buffers[1 - *current], filled_},
+                  buffers[1 - *current], filled_, tile_status_},
                  push, groups);
     seq.barrier();
     *current = 1 - *current;

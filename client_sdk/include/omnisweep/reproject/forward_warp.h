@@ -121,6 +121,7 @@ class ForwardWarper {
   int result_ = 0;          // which of buffers_ holds the distance result
   int colour_result_ = 0;   // which of colour_buffers_ holds the colour result
   std::uint32_t tile_ = 32;  // inpainting tile side (inpaint_tile.glsl), to fit shared memory
+  gpu::Buffer tile_status_;  // per tile and layer, twice: one dispatch writes what the next reads
   std::vector<gpu::Buffer> colour_buffers_;  // ping-pong colours (WarpOptions::colour only)
   // warp_, directions_kernel_ and sample_colour_ are compiled for the source's and the target's
   // camera models (model_constants), and again when set_target changes the target's model.
