@@ -14,10 +14,11 @@ layout(local_size_x_id = 100, local_size_y_id = 101, local_size_z_id = 102) in;
 // Per reference k: cameras[2k] is its camera at the matching resolution with rows
 // [cam_from_rig rotation | t_c]; cameras[2k + 1] its camera at the colour resolution.
 CAMERA_RECORDS(0)
-layout(std430, set = 0, binding = 1) readonly buffer Weights { float weights[]; };    // per reference, panorama
-layout(std430, set = 0, binding = 2) readonly buffer Warped { uint warped[]; };       // per reference, matching
-layout(std430, set = 0, binding = 3) readonly buffer Original { float original[]; };  // per reference, matching
-layout(std430, set = 0, binding = 4) readonly buffer Colour { uint colour[]; };       // per reference, colour
+// Read through texel buffers (gathers on CPU devices, the texture cache on GPUs).
+layout(set = 0, binding = 1) uniform samplerBuffer weights;    // per reference, panorama
+layout(set = 0, binding = 2) uniform usamplerBuffer warped;    // per reference, matching
+layout(set = 0, binding = 3) uniform samplerBuffer original;   // per reference, matching
+layout(set = 0, binding = 4) uniform usamplerBuffer colour;    // per reference, colour
 layout(std430, set = 0, binding = 5) writeonly buffer OutColour { uint out_colour[]; };
 layout(std430, set = 0, binding = 6) writeonly buffer OutDistance { float out_distance[]; };
 layout(push_constant) uniform Push {
@@ -36,7 +37,7 @@ bool sample_warped(uint k, Camera c, vec2 uv, out float value) {
   for (int j = 0; j < 4; ++j) {
     const ivec2 q = ivec2(f) + ivec2(j & 1, j >> 1);
     if (q.x < 0 || q.y < 0 || q.x >= int(c.width) || q.y >= int(c.height)) continue;
-    const uint bits = warped[k * c.width * c.height + uint(q.y) * c.width + uint(q.x)];
+    const uint bits = texelFetch(warped, int(k * c.width * c.height + uint(q.y) * c.width + uint(q.x))).x;
     if (bits == kEmpty) continue;
     const float w = ((j & 1) != 0 ? t.x : 1.0 - t.x) * ((j >> 1) != 0 ? t.y : 1.0 - t.y);
     sum += w * uintBitsToFloat(bits);
@@ -52,7 +53,7 @@ float sample_original(uint k, Camera c, vec2 uv) {
   float v[4];
   for (int j = 0; j < 4; ++j) {
     const ivec2 q = clamp(ivec2(f) + ivec2(j & 1, j >> 1), ivec2(0), ivec2(c.width, c.height) - 1);
-    v[j] = original[k * c.width * c.height + uint(q.y) * c.width + uint(q.x)];
+    v[j] = texelFetch(original, int(k * c.width * c.height + uint(q.y) * c.width + uint(q.x))).x;
   }
   return mix(mix(v[0], v[1], t.x), mix(v[2], v[3], t.x), t.y);
 }
@@ -63,7 +64,7 @@ vec3 sample_colour(uint k, Camera c, vec2 uv) {
   vec3 v[4];
   for (int j = 0; j < 4; ++j) {
     const ivec2 q = clamp(ivec2(f) + ivec2(j & 1, j >> 1), ivec2(0), ivec2(c.width, c.height) - 1);
-    v[j] = unpack_rgb(colour[k * c.width * c.height + uint(q.y) * c.width + uint(q.x)]);
+    v[j] = unpack_rgb(texelFetch(colour, int(k * c.width * c.height + uint(q.y) * c.width + uint(q.x))).x);
   }
   return mix(mix(v[0], v[1], t.x), mix(v[2], v[3], t.x), t.y);
 }
@@ -80,7 +81,7 @@ void main() {
   for (uint k = 0u; k < push.references; ++k) {
     const Camera c = cameras[2u * k];
     const Camera colour_camera = cameras[2u * k + 1u];
-    const float w = weights[k * push.width * push.height + pixel];
+    const float w = texelFetch(weights, int(k * push.width * push.height + pixel)).x;
     const vec3 dir_c = vec3(dot(c.row0.xyz, dir), dot(c.row1.xyz, dir), dot(c.row2.xyz, dir));
     const vec3 t_c = vec3(c.row0.w, c.row1.w, c.row2.w);
     vec2 uv;

@@ -57,7 +57,9 @@ Stitcher::Stitcher(gpu::Context& context, const Rig& matching_rig, const Rig& co
       out_colour_(context, std::uint64_t(options.panorama_width) * options.panorama_height * 4),
       out_distance_(context, std::uint64_t(options.panorama_width) * options.panorama_height * 4),
       merge_(context, "stitch_merge",
-             {.bindings = {reproject::camera_binding(), 1, 1, 1, 1, 1, 1},
+             {.bindings = {reproject::camera_binding(), gpu::BindingSlot::texels(),
+                           gpu::BindingSlot::texels(), gpu::BindingSlot::texels(),
+                           gpu::BindingSlot::texels(), 1, 1},
               .push_constant_bytes = sizeof(MergePush),
               .constants = reproject::model_constants(merge_model(matching_rig, colour_rig))}),
       sequence_(context) {
@@ -194,7 +196,11 @@ void Stitcher::record(gpu::Sequence& seq, const gpu::Buffer& distance) {
   warper_->record(seq, distance);  // ends in a barrier
   seq.begin_stage("merge");
   seq.dispatch(
-      merge_, {cameras_, weights_, warper_->result(), distance, colour_, out_colour_, out_distance_},
+      merge_,
+      {cameras_, gpu::Texels(weights_, gpu::TexelFormat::kR32Float),
+       gpu::Texels(warper_->result(), gpu::TexelFormat::kR32Uint),
+       gpu::Texels(distance, gpu::TexelFormat::kR32Float),
+       gpu::Texels(colour_, gpu::TexelFormat::kR32Uint), out_colour_, out_distance_},
       MergePush{std::uint32_t(options_.panorama_width), std::uint32_t(options_.panorama_height),
                 std::uint32_t(references_.size())},
       merge_.groups_for(options_.panorama_width, options_.panorama_height));
