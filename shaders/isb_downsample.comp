@@ -69,15 +69,15 @@ void main() {
 // Every channel of chunk c (a literal: texel arrays take constant indices, volume.glsl).
 #define DOWN_CHUNK(c)                                                                          \
   if (uint(c) < kChunks) {                                                                     \
-    for (uint k = 0u; k < kChannels; ++k) {                                                    \
-      const int b = int(volume_index(slot, k, fine_plane, 0u));                                \
-      float sum = 0.0;                                                                         \
-      sum += w0 * texelFetch(fine[c], b + i0).x; sum += w1 * texelFetch(fine[c], b + i1).x;    \
-      sum += w2 * texelFetch(fine[c], b + i2).x; sum += w3 * texelFetch(fine[c], b + i3).x;    \
-      sum += w4 * texelFetch(fine[c], b + i4).x; sum += w5 * texelFetch(fine[c], b + i5).x;    \
-      sum += w6 * texelFetch(fine[c], b + i6).x; sum += w7 * texelFetch(fine[c], b + i7).x;    \
-      sum += w8 * texelFetch(fine[c], b + i8).x;                                               \
-      coarse[c].v[volume_index(slot, k, coarse_plane, out_index)] = VOLUME_T(sum * inv_total); \
+    for (uint t = 0u; t < kTexels; ++t) {                                                      \
+      const int b = int(volume_index(slot, t, fine_plane, 0u));                                \
+      VOLUME_V sum = VOLUME_V(0.0);                                                            \
+      sum += w0 * VOLUME_FETCH(fine[c], b + i0); sum += w1 * VOLUME_FETCH(fine[c], b + i1);    \
+      sum += w2 * VOLUME_FETCH(fine[c], b + i2); sum += w3 * VOLUME_FETCH(fine[c], b + i3);    \
+      sum += w4 * VOLUME_FETCH(fine[c], b + i4); sum += w5 * VOLUME_FETCH(fine[c], b + i5);    \
+      sum += w6 * VOLUME_FETCH(fine[c], b + i6); sum += w7 * VOLUME_FETCH(fine[c], b + i7);    \
+      sum += w8 * VOLUME_FETCH(fine[c], b + i8);                                               \
+      coarse[c].v[volume_index(slot, t, coarse_plane, out_index)] = VOLUME_T(sum * inv_total); \
     }                                                                                          \
   }
   FOR_EACH_CHUNK(DOWN_CHUNK)

@@ -122,37 +122,35 @@ void main() {
   const float inv0 = 1.0 / total0, inv1 = 1.0 / total1, inv2 = 1.0 / total2, inv3 = 1.0 / total3;
 
   Wta wta0, wta1, wta2, wta3;
-// One child's filtered value of the channel: stored in place, or into its winner.
-#define UP_STORE(chunk, child, filtered)                                                 \
-  if (inside##child) {                                                            \
-    if (!kWinnerTakesAll) {                                                       \
-      fine[chunk].v[volume_index(slot, k, fine_plane, fine##child)] = VOLUME_T(filtered); \
-    } else if (i == 0u) {                                                         \
-      wta##child = wta_start(filtered);                                           \
-    } else if (i < push.num_candidates) {                                         \
-      wta_step(wta##child, i, filtered);                                          \
-    }                                                                             \
+// One child's filtered texel: stored in place, or into its winner.
+#define UP_STORE(chunk, child, filtered)                                              \
+  if (inside##child) {                                                                \
+    if (!kWinnerTakesAll) {                                                           \
+      fine[chunk].v[volume_index(slot, t, fine_plane, fine##child)] = VOLUME_T(filtered); \
+    } else {                                                                          \
+      wta_texel(wta##child, i, push.num_candidates, filtered);                                             \
+    }                                                                                 \
   }
 // Every channel of chunk c (a literal: texel arrays take constant indices, volume.glsl).
 #define UP_CHUNK(c)                                                                           \
   if (uint(c) < kChunks) {                                                                    \
-    for (uint k = 0u; k < kChannels; ++k) {                                                   \
-      const uint i = uint(c) * kChannels + k;                                                 \
-      const int cb = int(volume_index(slot, k, coarse_plane, 0u));                            \
-      const int fb = int(volume_index(slot, k, fine_plane, 0u));                              \
-      const float n0 = texelFetch(coarse[c], cb + i0).x, n1 = texelFetch(coarse[c], cb + i1).x, \
-                  n2 = texelFetch(coarse[c], cb + i2).x, n3 = texelFetch(coarse[c], cb + i3).x, \
-                  n4 = texelFetch(coarse[c], cb + i4).x, n5 = texelFetch(coarse[c], cb + i5).x, \
-                  n6 = texelFetch(coarse[c], cb + i6).x, n7 = texelFetch(coarse[c], cb + i7).x, \
-                  n8 = texelFetch(coarse[c], cb + i8).x;                                      \
-      float s0 = w_up * texelFetch(fine_texels[c], fb + int(fine0)).x;                       \
+    for (uint t = 0u; t < kTexels; ++t) {                                                     \
+      const uint i = uint(c) * kChannels + t * kPack;  /* the texel's first candidate */      \
+      const int cb = int(volume_index(slot, t, coarse_plane, 0u));                            \
+      const int fb = int(volume_index(slot, t, fine_plane, 0u));                              \
+      const VOLUME_V n0 = VOLUME_FETCH(coarse[c], cb + i0), n1 = VOLUME_FETCH(coarse[c], cb + i1), \
+                     n2 = VOLUME_FETCH(coarse[c], cb + i2), n3 = VOLUME_FETCH(coarse[c], cb + i3), \
+                     n4 = VOLUME_FETCH(coarse[c], cb + i4), n5 = VOLUME_FETCH(coarse[c], cb + i5), \
+                     n6 = VOLUME_FETCH(coarse[c], cb + i6), n7 = VOLUME_FETCH(coarse[c], cb + i7), \
+                     n8 = VOLUME_FETCH(coarse[c], cb + i8);                                   \
+      VOLUME_V s0 = w_up * VOLUME_FETCH(fine_texels[c], fb + int(fine0));                    \
       s0 += wa0 * n0; s0 += wa1 * n1; s0 += wa2 * n2; s0 += wa3 * n3; s0 += wa4 * n4;             \
       s0 += wa5 * n5; s0 += wa6 * n6; s0 += wa7 * n7; s0 += wa8 * n8;                            \
-      float s1 = w_up * texelFetch(fine_texels[c], fb + int(fine1)).x;                       \
+      VOLUME_V s1 = w_up * VOLUME_FETCH(fine_texels[c], fb + int(fine1));                    \
       s1 += wb0 * n4; s1 += wb1 * n5; s1 += wb2 * n1; s1 += wb3 * n2; s1 += wb4 * n7; s1 += wb5 * n8; \
-      float s2 = w_up * texelFetch(fine_texels[c], fb + int(fine2)).x;                       \
+      VOLUME_V s2 = w_up * VOLUME_FETCH(fine_texels[c], fb + int(fine2));                    \
       s2 += wc0 * n4; s2 += wc1 * n7; s2 += wc2 * n3; s2 += wc3 * n6; s2 += wc4 * n5; s2 += wc5 * n8; \
-      float s3 = w_up * texelFetch(fine_texels[c], fb + int(fine3)).x;                       \
+      VOLUME_V s3 = w_up * VOLUME_FETCH(fine_texels[c], fb + int(fine3));                    \
       s3 += wd0 * n4; s3 += wd1 * n5; s3 += wd2 * n7; s3 += wd3 * n8;                            \
       UP_STORE(c, 0, s0 * inv0) UP_STORE(c, 1, s1 * inv1) UP_STORE(c, 2, s2 * inv2)                   \
       UP_STORE(c, 3, s3 * inv3)                                                               \

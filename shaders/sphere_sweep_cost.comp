@@ -46,6 +46,18 @@ vec3 bilinear(uint camera, vec2 uv) {
              mix(tap(camera, x, y + 1), tap(camera, x + 1, y + 1), t.x), t.y);
 }
 
+// The cost of candidate i (0 past the last candidate: padding).
+float candidate_cost(uint i, Camera c, vec3 rotated, vec3 translation, int selected,
+                     vec3 reference_rgb, float step) {
+  if (i >= push.num_candidates) return 0.0;
+  const float distance_i = 1.0 / (push.inv_d_min + step * float(i));
+  vec2 uv;
+  vec3 rgb = vec3(0.0);
+  if (project_source(c, distance_i * rotated + translation, uv)) rgb = bilinear(uint(selected), uv);
+  const vec3 d = abs(rgb - reference_rgb);
+  return min(d.x + d.y + d.z, 500.0);
+}
+
 void main() {
   const uvec3 g = gl_GlobalInvocationID;
   if (g.x >= push.width || g.y >= push.height) return;
@@ -63,19 +75,22 @@ void main() {
   const Camera c = cameras[records + uint(max(selected, 0))];
   const vec3 rotated = vec3(dot(c.row0.xyz, ray), dot(c.row1.xyz, ray), dot(c.row2.xyz, ray));
   const vec3 translation = vec3(c.row0.w, c.row1.w, c.row2.w);
-  // Pixels that match loop over the candidates; the rest (outside the lens or the masks) only
-  // store zeros, so a CPU device skips the sweep where a whole vector of pixels has no match.
-  const uint matched = matching ? push.num_candidates : 0u;
-  uint i = 0u;
-  for (; i < matched; ++i) {
-    const float distance_i = 1.0 / (push.inv_d_min + step * float(i));
-    vec2 uv;
-    vec3 rgb = vec3(0.0);
-    if (project_source(c, distance_i * rotated + translation, uv)) rgb = bilinear(uint(selected), uv);
-    const vec3 d = abs(rgb - reference_rgb);
-    const float cost = min(d.x + d.y + d.z, 500.0);
-    volume[i / kChannels].v[volume_index(slot, i % kChannels, plane, pixel)] = VOLUME_T(cost);
+  // Pixels that match loop over the candidates, a texel (kPack of them) at a time; the rest
+  // (outside the lens or the masks) only store zeros, so a CPU device skips the sweep where a
+  // whole vector of pixels has no match.
+  const uint matched = matching ? (push.num_candidates + kPack - 1u) / kPack : 0u;
+  uint t = 0u;
+  for (; t < matched; ++t) {
+#if VOLUME_PACK == 4
+    const VOLUME_V cost = vec4(candidate_cost(4u * t, c, rotated, translation, selected, reference_rgb, step),
+                               candidate_cost(4u * t + 1u, c, rotated, translation, selected, reference_rgb, step),
+                               candidate_cost(4u * t + 2u, c, rotated, translation, selected, reference_rgb, step),
+                               candidate_cost(4u * t + 3u, c, rotated, translation, selected, reference_rgb, step));
+#else
+    const VOLUME_V cost = candidate_cost(t, c, rotated, translation, selected, reference_rgb, step);
+#endif
+    volume[t / kTexels].v[volume_index(slot, t % kTexels, plane, pixel)] = VOLUME_T(cost);
   }
-  for (; i < kChunks * kChannels; ++i)
-    volume[i / kChannels].v[volume_index(slot, i % kChannels, plane, pixel)] = VOLUME_T(0.0);
+  for (; t < kChunks * kTexels; ++t)
+    volume[t / kTexels].v[volume_index(slot, t % kTexels, plane, pixel)] = VOLUME_T(0.0);
 }

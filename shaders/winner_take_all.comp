@@ -21,13 +21,12 @@ layout(push_constant) uniform Push {
   uint first;
 } push;
 
-// The candidates of one chunk (past candidate 0) into `wta`.
+// The candidates of one chunk into `wta`.
 void wta_chunk(samplerBuffer chunk_texels, uint chunk, uint slot, uint plane, uint pixel,
                inout Wta wta) {
-  for (uint k = 0u; k < kChannels; ++k) {
-    const uint i = chunk * kChannels + k;
-    if (i == 0u || i >= push.num_candidates) continue;
-    wta_step(wta, i, texelFetch(chunk_texels, int(volume_index(slot, k, plane, pixel))).x);
+  for (uint t = 0u; t < kTexels; ++t) {
+    wta_texel(wta, chunk * kChannels + t * kPack, push.num_candidates,
+              VOLUME_FETCH(chunk_texels, int(volume_index(slot, t, plane, pixel))));
   }
 }
 
@@ -35,8 +34,8 @@ void main() {
   const uvec3 g = gl_GlobalInvocationID;
   if (g.x >= push.width || g.y >= push.height) return;
   const uint plane = push.width * push.height, pixel = g.y * push.width + g.x;
-  // One pass in candidate order, chunk after chunk.
-  Wta wta = wta_start(texelFetch(volume[0], int(volume_index(g.z, 0u, plane, pixel))).x);
+  // One pass in candidate order, chunk after chunk (candidate 0 starts the winner).
+  Wta wta;
 #define WTA_CHUNK(c) if (uint(c) < kChunks) wta_chunk(volume[c], uint(c), g.z, plane, pixel, wta);
   FOR_EACH_CHUNK(WTA_CHUNK)
   distance_map[(push.first + g.z) * plane + pixel] =

@@ -17,20 +17,23 @@ gpu::KernelLayout volume_kernel_layout(std::vector<gpu::BindingSlot> bindings,
 }
 
 std::string volume_shader(const std::string& shader, VolumeLayout layout) {
-  return layout.half ? shader + "_f16" : shader;
+  const bool stores = shader != "winner_take_all";  // reads only: its texel format says it all
+  return shader + (layout.half && stores ? "_f16" : "") + (layout.pack == 4 ? "_x4" : "");
 }
 
 VolumeLayout plan_volume(const gpu::Context& context, int width, int height, int channels,
                          bool half, int slots) {
   half = half && context.info().storage_16bit;
   const std::uint64_t value_bytes = half ? 2 : 4;
+  const int pack = channels > 1 ? 4 : 1;
   // A chunk is bound as a storage buffer and read as a texel buffer: both limits hold.
   const std::uint64_t limit = std::min<std::uint64_t>(
       context.info().max_storage_buffer_range,
-      context.info().max_texel_buffer_elements * value_bytes);
+      context.info().max_texel_buffer_elements * value_bytes * pack);
   const std::uint64_t pixel_bytes = std::uint64_t(width) * height * value_bytes * slots;
-  int per_chunk = std::min(channels, kMaxChannelsPerChunk);
-  while (per_chunk > 1 && pixel_bytes * per_chunk > limit) per_chunk = (per_chunk + 1) / 2;
+  int per_chunk = std::min((channels + pack - 1) / pack * pack, kMaxChannelsPerChunk);
+  while (per_chunk > pack && pixel_bytes * per_chunk > limit)
+    per_chunk = ((per_chunk + 1) / 2 + pack - 1) / pack * pack;
   const int chunks = (channels + per_chunk - 1) / per_chunk;
   if (pixel_bytes * per_chunk > limit || chunks > kMaxChunks) {
     throw gpu::GpuError(std::to_string(channels) + " channels of " + std::to_string(slots) +
@@ -41,8 +44,19 @@ VolumeLayout plan_volume(const gpu::Context& context, int width, int height, int
                         context.info().name +
                         "); lower the matching resolution or the number of candidates");
   }
-  return {per_chunk, chunks, half, slots};
+  return {per_chunk, chunks, half, slots, pack};
 }
+
+namespace {
+
+// Where channel j (of a chunk) of pixel p lies among a slot's values in a chunk: in texel j / pack
+// of the pixel (volume.glsl), at component j % pack.
+auto element_of(const VolumeLayout& layout, std::size_t pixels) {
+  const std::size_t pack = layout.pack;
+  return [pack, pixels](std::size_t j, std::size_t p) { return (j / pack * pixels + p) * pack + j % pack; };
+}
+
+}  // namespace
 
 CostVolume::CostVolume(gpu::Context& context, int width, int height, VolumeLayout layout)
     : width_(width), height_(height), layout_(layout) {
@@ -73,6 +87,7 @@ std::vector<float> CostVolume::download(int channels, int slot) const {
   const int k = layout_.channels_per_chunk;
   if (slot < 0 || slot >= layout_.slots) throw std::out_of_range("cost volume: no such slot");
   const std::size_t slot_values = pixels * k, offset = slot_values * slot;
+  const auto element = element_of(layout_, pixels);
   std::vector<float> out(pixels * channels);
   for (int c = 0; c < layout_.chunks; ++c) {
     std::vector<float> chunk(slot_values);
@@ -85,7 +100,7 @@ std::vector<float> CostVolume::download(int channels, int slot) const {
     }
     for (std::size_t p = 0; p < pixels; ++p) {
       for (int j = 0; j < k && c * k + j < channels; ++j)
-        out[p * channels + c * k + j] = chunk[j * pixels + p];
+        out[p * channels + c * k + j] = chunk[element(j, p)];
     }
   }
   return out;
@@ -96,11 +111,12 @@ void CostVolume::upload(const std::vector<float>& values, int channels, int slot
   const int k = layout_.channels_per_chunk;
   if (slot < 0 || slot >= layout_.slots) throw std::out_of_range("cost volume: no such slot");
   const std::size_t offset = pixels * k * slot;
+  const auto element = element_of(layout_, pixels);
   for (int c = 0; c < layout_.chunks; ++c) {
     std::vector<float> chunk(pixels * k, 0.0f);
     for (std::size_t p = 0; p < pixels; ++p) {
       for (int j = 0; j < k && c * k + j < channels; ++j)
-        chunk[j * pixels + p] = values[p * channels + c * k + j];
+        chunk[element(j, p)] = values[p * channels + c * k + j];
     }
     if (layout_.half) {
       const std::vector<Eigen::half> halves(chunk.begin(), chunk.end());

@@ -20,18 +20,21 @@ inline constexpr int kMaxChunks =
 inline constexpr int kMaxChannelsPerChunk = 32;
 
 struct VolumeLayout {
-  int channels_per_chunk = 1;
+  int channels_per_chunk = 1;  // a multiple of pack
   int chunks = 1;
   bool half = false;  // values stored as 16-bit floats (the *_f16 kernels)
   int slots = 1;      // reference cameras side by side in every chunk
+  int pack = 1;       // channels per texel: 4 (the *_x4 kernels), or 1
   int channels() const { return channels_per_chunk * chunks; }  // candidates plus padding
   std::uint64_t value_bytes() const { return half ? 2 : 4; }
   gpu::TexelFormat texel_format() const {
+    if (pack == 4) return half ? gpu::TexelFormat::kRgba16Float : gpu::TexelFormat::kRgba32Float;
     return half ? gpu::TexelFormat::kR16Float : gpu::TexelFormat::kR32Float;
   }
 };
 
-// The kernel of `shader` that stores volumes with `layout`: `shader`, or its 16-bit build
+// The kernel of `shader` that stores or reads volumes with `layout`: `shader`, or its build for
+// 16-bit values (_f16, kernels that store) and for channels packed by four (_x4)
 // (shaders/CMakeLists.txt).
 std::string volume_shader(const std::string& shader, VolumeLayout layout);
 
@@ -42,8 +45,9 @@ gpu::KernelLayout volume_kernel_layout(std::vector<gpu::BindingSlot> bindings,
                                        std::uint32_t push_bytes, VolumeLayout layout);
 
 // The layout for `channels` channels of `slots` references at width x height on this device,
-// 16-bit where `half` and the device stores 16-bit floats; throws GpuError when even one channel
-// per chunk needs more than kMaxChunks chunks.
+// 16-bit where `half` and the device stores 16-bit floats, channels packed by four where there
+// is more than one (padded to a multiple of four); throws GpuError when even the smallest chunk
+// needs more than kMaxChunks chunks.
 VolumeLayout plan_volume(const gpu::Context& context, int width, int height, int channels,
                          bool half = false, int slots = 1);
 

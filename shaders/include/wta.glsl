@@ -41,3 +41,27 @@ float wta_distance(Wta s, uint num_candidates, float inv_d_min, float inv_d_max,
   const float inverse = inv_d_min + (inv_d_max - inv_d_min) * k / float(num_candidates - 1u);
   return 1.0 / inverse;
 }
+
+// Candidate i of n with cost c: starts the winner at i = 0, steps it for 0 < i < n (padding
+// candidates past n are skipped).
+void wta_candidate(inout Wta s, uint i, uint n, float c) {
+  if (i == 0u) {
+    s = wta_start(c);
+  } else if (i < n) {
+    wta_step(s, i, c);
+  }
+}
+
+#ifdef VOLUME_V
+// The candidates of one volume texel (volume.glsl, included before this file), i the first.
+void wta_texel(inout Wta s, uint i, uint n, VOLUME_V c) {
+#if VOLUME_PACK == 4
+  wta_candidate(s, i, n, c.x);
+  wta_candidate(s, i + 1u, n, c.y);
+  wta_candidate(s, i + 2u, n, c.z);
+  wta_candidate(s, i + 3u, n, c.w);
+#else
+  wta_candidate(s, i, n, c);
+#endif
+}
+#endif

@@ -24,6 +24,10 @@ vk::Format vk_format(TexelFormat format) {
       return vk::Format::eR32Sfloat;
     case TexelFormat::kR16Float:
       return vk::Format::eR16Sfloat;
+    case TexelFormat::kRgba16Float:
+      return vk::Format::eR16G16B16A16Sfloat;
+    case TexelFormat::kRgba32Float:
+      return vk::Format::eR32G32B32A32Sfloat;
   }
   throw GpuError("unknown texel format");
 }
@@ -33,7 +37,10 @@ vk::Format vk_format(TexelFormat format) {
 std::uint32_t texel_bytes(TexelFormat format) {
   switch (format) {
     case TexelFormat::kRgba32Uint:
+    case TexelFormat::kRgba32Float:
       return 16;
+    case TexelFormat::kRgba16Float:
+      return 8;
     case TexelFormat::kR16Float:
       return 2;
     default:

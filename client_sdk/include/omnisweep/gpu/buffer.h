@@ -25,6 +25,8 @@ enum class TexelFormat {
   kRgba32Uint,  // usamplerBuffer, a uvec4 per texel (16 bytes)
   kR32Float,    // samplerBuffer, one float per texel
   kR16Float,    // samplerBuffer, one 16-bit float per texel (read as float)
+  kRgba16Float,  // samplerBuffer, four 16-bit floats per texel (read as vec4)
+  kRgba32Float,  // samplerBuffer, a vec4 per texel
 };
 std::uint32_t texel_bytes(TexelFormat format);
 
