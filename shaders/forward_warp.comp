@@ -19,7 +19,7 @@ layout(local_size_x_id = 100, local_size_y_id = 101, local_size_z_id = 102) in;
 #include "camera.glsl"
 
 CAMERA_RECORDS(0)  // source, target per layer
-layout(std430, set = 0, binding = 1) readonly buffer Distance { float distance_map[]; };
+layout(set = 0, binding = 1) uniform samplerBuffer distance_map;  // per layer (a texel buffer)
 layout(std430, set = 0, binding = 2) buffer ZBuffer { uint zbuffer[]; };
 layout(push_constant) uniform Push {
   float max_splat;
@@ -36,7 +36,7 @@ void main() {
   const Camera source = cameras[2u * layer], target = cameras[2u * layer + 1u];
   const uvec2 p = gl_GlobalInvocationID.xy;
   if (p.x >= source.width || p.y >= source.height) return;
-  const float d = distance_map[(layer * source.height + p.y) * source.width + p.x];
+  const float d = texelFetch(distance_map, int((layer * source.height + p.y) * source.width + p.x)).x;
   vec3 ray;
   if (!(d > 0.0) || isinf(d) || !unproject_source(source, vec2(p), ray)) return;
   const vec3 x = to_camera(target, d * ray);

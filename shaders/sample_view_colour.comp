@@ -12,9 +12,10 @@ layout(local_size_x_id = 100, local_size_y_id = 101, local_size_z_id = 102) in;
 #include "pixels.glsl"
 
 CAMERA_RECORDS(0)  // source, target
-layout(std430, set = 0, binding = 1) readonly buffer Warped { uint warped[]; };  // target, float bits
-layout(std430, set = 0, binding = 2) readonly buffer SourceDistance { float source_distance[]; };
-layout(std430, set = 0, binding = 3) readonly buffer SourceColour { uint source_colour[]; };
+// Read through texel buffers (gathers on CPU devices, the texture cache on GPUs).
+layout(set = 0, binding = 1) uniform usamplerBuffer warped;  // target, float bits
+layout(set = 0, binding = 2) uniform samplerBuffer source_distance;
+layout(set = 0, binding = 3) uniform usamplerBuffer source_colour;
 layout(std430, set = 0, binding = 4) writeonly buffer Colour { uint colour[]; };  // target RGBA8
 layout(push_constant) uniform Push {
   float occlusion_tolerance;
@@ -33,12 +34,16 @@ uint source_index(Camera source, ivec2 p) {
   return uint(p.y) * source.width + uint(p.x);
 }
 
+vec3 colour_at(Camera source, ivec2 p) {
+  return unpack_rgb(texelFetch(source_colour, int(source_index(source, p))).x);
+}
+
 void main() {
   const Camera source = cameras[0], target = cameras[1];
   const uvec2 q = gl_GlobalInvocationID.xy;
   if (q.x >= target.width || q.y >= target.height) return;
   const uint index = q.y * target.width + q.x;
-  const uint bits = warped[index];
+  const uint bits = texelFetch(warped, int(index)).x;
   vec3 ray;
   if (bits == kEmpty || !unproject_target(target, vec2(q), ray)) {
     colour[index] = 0u;
@@ -53,7 +58,7 @@ void main() {
     colour[index] = 0u;
     return;
   }
-  const float seen = source_distance[source_index(source, ivec2(floor(uv + 0.5)))];
+  const float seen = texelFetch(source_distance, int(source_index(source, ivec2(floor(uv + 0.5))))).x;
   if (seen > 0.0 && seen < length(x) * (1.0 - push.occlusion_tolerance)) {
     colour[index] = 0u;
     return;
@@ -61,10 +66,8 @@ void main() {
   const vec2 base = floor(uv);
   const vec2 f = uv - base;
   const ivec2 b = ivec2(base);
-  const vec3 c00 = unpack_rgb(source_colour[source_index(source, b)]);
-  const vec3 c10 = unpack_rgb(source_colour[source_index(source, b + ivec2(1, 0))]);
-  const vec3 c01 = unpack_rgb(source_colour[source_index(source, b + ivec2(0, 1))]);
-  const vec3 c11 = unpack_rgb(source_colour[source_index(source, b + ivec2(1, 1))]);
+  const vec3 c00 = colour_at(source, b), c10 = colour_at(source, b + ivec2(1, 0));
+  const vec3 c01 = colour_at(source, b + ivec2(0, 1)), c11 = colour_at(source, b + ivec2(1, 1));
   const vec3 c = mix(mix(c00, c10, f.x), mix(c01, c11, f.x), f.y);
   colour[index] = pack_rgb(uvec3(clamp(c + 0.5, 0.0, 255.0))) | 0xff000000u;
 }

@@ -57,14 +57,19 @@ gpu::Kernel camera_kernel(const gpu::Context& context, const char* shader,
                                                    layers_model(layers, true))});
 }
 gpu::Kernel warp_kernel(const gpu::Context& context, const std::vector<WarpLayer>& layers) {
-  return camera_kernel(context, "forward_warp", {camera_binding(), 1, 1}, 4, layers);
+  return camera_kernel(context, "forward_warp", {camera_binding(), gpu::BindingSlot::texels(), 1},
+                       4, layers);
 }
 gpu::Kernel directions_kernel(const gpu::Context& context, const std::vector<WarpLayer>& layers) {
   return camera_kernel(context, "inpaint_directions", {camera_binding(), 1}, 8, layers);
 }
 gpu::Kernel sample_colour_kernel(const gpu::Context& context,
                                  const std::vector<WarpLayer>& layers) {
-  return camera_kernel(context, "sample_view_colour", {camera_binding(), 1, 1, 1, 1}, 4, layers);
+  return camera_kernel(
+      context, "sample_view_colour",
+      {camera_binding(), gpu::BindingSlot::texels(), gpu::BindingSlot::texels(),
+       gpu::BindingSlot::texels(), 1},
+      4, layers);
 }
 
 const std::vector<WarpLayer>& checked(const std::vector<WarpLayer>& layers, bool colour) {
@@ -189,7 +194,8 @@ void ForwardWarper::record_warp(gpu::Sequence& seq, const gpu::Buffer& distance)
   seq.fill(buffers_[0], kEmpty);
   seq.barrier();
   const float splat = float(options_.max_splat);
-  seq.dispatch(warp_, {cameras_, distance, buffers_[0]}, splat,
+  seq.dispatch(warp_, {cameras_, gpu::Texels(distance, gpu::TexelFormat::kR32Float), buffers_[0]},
+               splat,
                warp_.groups_for(source().width, source().height, count));
   seq.barrier();
   result_ = 0;
@@ -234,7 +240,10 @@ void ForwardWarper::record_colour_sample(gpu::Sequence& seq, const gpu::Buffer& 
   if (source_colour.size() < pixels(source()) * 4 || distance.size() < pixels(source()) * 4)
     throw std::invalid_argument("forward warp: a source buffer holds fewer than its pixels");
   const float tolerance = float(options_.occlusion_tolerance);
-  seq.dispatch(*sample_colour_, {cameras_, result(), distance, source_colour, colour_buffers_[0]},
+  seq.dispatch(*sample_colour_,
+               {cameras_, gpu::Texels(result(), gpu::TexelFormat::kR32Uint),
+                gpu::Texels(distance, gpu::TexelFormat::kR32Float),
+                gpu::Texels(source_colour, gpu::TexelFormat::kR32Uint), colour_buffers_[0]},
                tolerance, sample_colour_->groups_for(target().width, target().height));
   seq.barrier();
   colour_result_ = 0;
