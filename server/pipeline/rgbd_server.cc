@@ -10,6 +10,7 @@
 #include "server/depth/depth_estimator.h"
 #include "server/depth/depth_inputs.h"
 #include "server/pipeline/bounded_queue.h"
+#include "server/pipeline/gpu_frame.h"
 
 namespace omnisweep::pipeline {
 namespace {
@@ -44,8 +45,7 @@ struct RgbdServer::Job {
   std::uint64_t sequence = 0;
   std::vector<std::uint64_t> capture_time_ns;
   std::uint64_t processing_start_ns = 0;
-  std::vector<Rgb8Image> images;     // full resolution
-  std::vector<FloatImage> distance;  // per reference, matching resolution
+  std::vector<Rgb8Image> images;  // full resolution
   stitch::Panorama panorama;
   msg::RgbdFrame message;
 };
@@ -55,10 +55,11 @@ struct RgbdServer::Stages {
   std::vector<std::optional<Gray8Image>> masks;
   depth::DepthEstimator estimator;
   stitch::Stitcher stitcher;
+  GpuFrame gpu_frame;  // the two, one submission per frame
   std::unique_ptr<codec::DistanceCodec> distance_codec;
   FrameBudget budget;  // the colour codec, at the quality the frame budget allows
   msg::StreamDescription description;
-  BoundedQueue<std::shared_ptr<Job>> to_depth{1}, to_stitch{1}, to_encode{2}, to_publish{2};
+  BoundedQueue<std::shared_ptr<Job>> to_depth{1}, to_encode{2}, to_publish{2};
 
   Stages(gpu::Context& context, const capture::FrameSource& source, const ServerOptions& o)
       : matching_rig(source.rig().resized(o.depth.matching_width, o.depth.matching_height)),
@@ -73,6 +74,7 @@ struct RgbdServer::Stages {
                                        .viewpoint = o.viewpoint,
                                        .min_distance = o.depth.min_distance,
                                        .max_distance = o.depth.max_distance}),
+        gpu_frame(context, estimator, stitcher),
         distance_codec(codec::make_distance_codec("qinv16-zstd")),
         budget(o.jpeg_quality, o.max_frame_bytes) {}
 };
@@ -129,8 +131,7 @@ void RgbdServer::start() {
     });
   };
   spawn(&RgbdServer::capture_loop, "capture");
-  spawn(&RgbdServer::depth_loop, "depth");
-  spawn(&RgbdServer::stitch_loop, "stitch");
+  spawn(&RgbdServer::gpu_loop, "depth");
   spawn(&RgbdServer::encode_loop, "encode");
   spawn(&RgbdServer::publish_loop, "publish", &publish_ended_);
   spawn(&RgbdServer::status_loop, "status", &status_ended_);
@@ -139,7 +140,6 @@ void RgbdServer::start() {
 void RgbdServer::request_stop() {
   stop_ = true;
   stages_->to_depth.close();
-  stages_->to_stitch.close();
   stages_->to_encode.close();
   stages_->to_publish.close();
   done_.notify_all();
@@ -235,31 +235,26 @@ void RgbdServer::capture_loop() {
   }
 }
 
-void RgbdServer::depth_loop() {
-  while (auto job = stages_->to_depth.pop()) {
-    const auto start = Clock::now();
-    (*job)->processing_start_ns = wall_clock_ns();
-    const auto images = depth::matching_images((*job)->images, options_.depth);
-    depth::DepthResult result = stages_->estimator.estimate(depth::pointers(images));
-    (*job)->distance = std::move(result.distance);
-    add_stage_time("depth", ms_since(start));
-    // Behind a source that waits, a stage waits for the next one too: no frame is computed only
-    // to be dropped. Behind live cameras the newest frame replaces a waiting one.
-    if (!source_->live() && !stages_->to_stitch.wait_for_room()) break;
-    if (stages_->to_stitch.push(std::move(*job))) count_drop("stitch busy");
-  }
-}
-
-void RgbdServer::stitch_loop() {
-  while (auto item = stages_->to_stitch.pop()) {
+// Depth and stitching of a frame in one GPU submission (GpuFrame): the camera images go up, the
+// panorama comes down, and the depth maps never leave the GPU. The wire's "depth" stage is the
+// frame's time up to the panorama but the stitcher's GPU time, which is "stitch".
+void RgbdServer::gpu_loop() {
+  while (auto item = stages_->to_depth.pop()) {
     Job& job = **item;
     const auto start = Clock::now();
+    job.processing_start_ns = wall_clock_ns();
+    const auto images = depth::matching_images(job.images, options_.depth);
     const std::vector<Rgb8Image> colour =
         depth::reference_colour_images(job.images, stages_->colour_rig, options_.depth.references);
-    job.panorama = stages_->stitcher.stitch(depth::pointers(job.distance), depth::pointers(colour));
+    job.panorama = stages_->gpu_frame.run(depth::pointers(images), depth::pointers(colour));
     job.images.clear();
-    job.distance.clear();
-    add_stage_time("stitch", ms_since(start));
+    double stitch_ms = 0;
+    for (const auto& [stage, ms] : job.panorama.stage_ms)
+      if (stage == "warp" || stage == "merge") stitch_ms += ms;
+    add_stage_time("depth", ms_since(start) - stitch_ms);
+    add_stage_time("stitch", stitch_ms);
+    // Behind a source that waits, a stage waits for the next one too: no frame is computed only
+    // to be dropped. Behind live cameras the newest frame replaces a waiting one.
     if (!source_->live() && !stages_->to_encode.wait_for_room()) break;
     if (stages_->to_encode.push(std::move(*item))) count_drop("encoder busy");
   }

@@ -68,8 +68,7 @@ class RgbdServer {
  private:
   struct Job;
   void capture_loop();
-  void depth_loop();
-  void stitch_loop();
+  void gpu_loop();
   void encode_loop();
   void publish_loop();
   void status_loop();
