@@ -1,7 +1,7 @@
 // One frame as one GPU submission: the camera images go up, depth (DepthEstimator) and stitching
 // (Stitcher) are recorded into the same command buffer so the depth maps never leave the GPU, the
-// host waits once, and the panorama comes down. omnisweep-process and the cost model run frames
-// this way.
+// host waits once, and the panorama comes down. omnisweep-server, omnisweep-process and the cost
+// model run frames this way.
 #pragma once
 
 #include <vector>
