@@ -38,6 +38,7 @@ shared uint tile_values[2u * kRegionPixels];
 // hole to fill at all.
 shared uint tile_changed[3];
 shared uint tile_filled;  // whether any pass filled a pixel of the tile itself
+shared uint tile_skip;    // whether the last dispatch left this tile as this one would
 
 bool in_tile(uvec2 r) {
   return r.x >= kHalo && r.y >= kHalo && r.x < kHalo + kTile && r.y < kHalo + kTile;
@@ -85,15 +86,16 @@ void inpaint_tile() {
   const uint now = (push.pass / kHalo) % 2u * set_size, last = set_size - now;
   const uint tile = tile_index(gl_WorkGroupID.xy);
   // The first dispatch of a run knows nothing of the other buffer.
-  if (push.pass > 0u && can_skip(last)) {  // the same in every invocation
-    if (lid == 0u) tile_status[now + tile] = tile_status[last + tile];
-    return;
-  }
-  if (lid < 4u) {
-    if (lid < 3u) tile_changed[lid] = 0u;
-    else tile_filled = 0u;
+  // One invocation decides (statuses read once, not by every lane), the others follow.
+  if (lid == 0u) {
+    const bool skip = push.pass > 0u && can_skip(last);
+    if (skip) tile_status[now + tile] = tile_status[last + tile];
+    tile_skip = skip ? 1u : 0u;
+    tile_changed[0] = tile_changed[1] = tile_changed[2] = 0u;
+    tile_filled = 0u;
   }
   barrier();
+  if (tile_skip != 0u) return;  // the same in every invocation
   bool hole = false;
   for (uint i = lid; i < kTile * kTile; i += threads) {
     ivec2 g;
