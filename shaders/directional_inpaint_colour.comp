@@ -22,6 +22,7 @@ layout(push_constant) uniform Push {
   uint wrap_x;
   uint pass;    // the first pass of this dispatch
   uint passes;  // 1 to 8
+  uint status_set;  // which tile_status set this dispatch writes: 0 and 1 in turn (inpaint_tile.glsl)
 } push;
 
 const uint kEmptyValue = 0u;

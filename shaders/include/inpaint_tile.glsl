@@ -19,7 +19,7 @@
 // The including shader declares the texel buffers `directions` (inpaint.glsl) and `source`, the
 // storage buffers Destination `destination`, Filled `filled` and Status `tile_status` (two uints
 // per tile and layer) and the push constants (width, height, wrap_x, pass,
-// passes), and defines, before including this file:
+// passes, status_set), and defines, before including this file:
 //   bool is_empty(uint value);
 //   uint blend(uint v0, float w0, uint v1, float w1);  // a neighbour with w = 0 is absent
 //   const uint kEmptyValue;
@@ -81,9 +81,10 @@ void inpaint_tile() {
   const int layer_base = int(gl_WorkGroupID.z * push.width * push.height);
   const uint threads = gl_WorkGroupSize.x * gl_WorkGroupSize.y;
   const uint lid = gl_LocalInvocationIndex;
-  // The two status sets: dispatch k of a run (pass 8k) writes set k % 2 and reads the other.
+  // The two status sets: consecutive dispatches of a run write them in turn (push.status_set),
+  // each reading the one the dispatch before it wrote.
   const uint set_size = gl_NumWorkGroups.x * gl_NumWorkGroups.y * gl_NumWorkGroups.z;
-  const uint now = (push.pass / kHalo) % 2u * set_size, last = set_size - now;
+  const uint now = push.status_set * set_size, last = set_size - now;
   const uint tile = tile_index(gl_WorkGroupID.xy);
   // The first dispatch of a run knows nothing of the other buffer.
   // One invocation decides (statuses read once, not by every lane), the others follow.

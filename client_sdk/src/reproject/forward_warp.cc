@@ -14,6 +14,7 @@ constexpr int kMaxPasses = 1024;
 
 struct InpaintPush {
   std::uint32_t width, height, wrap_x, pass, passes;
+  std::uint32_t status_set;  // alternates from dispatch to dispatch, as *current does
 };
 
 // Passes one inpainting dispatch runs (kHalo in shaders/include/inpaint_tile.glsl), its
@@ -50,11 +51,11 @@ GpuModel layers_model(const std::vector<WarpLayer>& layers, bool target) {
 gpu::Kernel camera_kernel(const gpu::Context& context, const char* shader,
                           std::vector<gpu::BindingSlot> bindings, std::uint32_t push_bytes,
                           const std::vector<WarpLayer>& layers) {
-  return gpu::Kernel(context, shader,
-                     {.bindings = std::move(bindings),
-                      .push_constant_bytes = push_bytes,
-                      .constants = model_constants(layers_model(layers, false),
-                                                   layers_model(layers, true))});
+  return gpu::Kernel(
+      context, shader,
+      {.bindings = std::move(bindings),
+       .push_constant_bytes = push_bytes,
+       .constants = model_constants(layers_model(layers, false), layers_model(layers, true))});
 }
 gpu::Kernel warp_kernel(const gpu::Context& context, const std::vector<WarpLayer>& layers) {
   return camera_kernel(context, "forward_warp", {camera_binding(), gpu::BindingSlot::texels(), 1},
@@ -65,14 +66,13 @@ gpu::Kernel directions_kernel(const gpu::Context& context, const std::vector<War
 }
 gpu::Kernel sample_colour_kernel(const gpu::Context& context,
                                  const std::vector<WarpLayer>& layers) {
-  return camera_kernel(
-      context, "sample_view_colour",
-      {camera_binding(), gpu::BindingSlot::texels(), gpu::BindingSlot::texels(),
-       gpu::BindingSlot::texels(), 1},
-      4, layers);
+  return camera_kernel(context, "sample_view_colour",
+                       {camera_binding(), gpu::BindingSlot::texels(), gpu::BindingSlot::texels(),
+                        gpu::BindingSlot::texels(), 1},
+                       4, layers);
 }
 
-const std::vector<WarpLayer>& checked(const std::vector<WarpLayer>& layers, bool colour) {
+std::vector<WarpLayer> checked(std::vector<WarpLayer> layers, bool colour) {
   if (layers.empty()) throw std::invalid_argument("forward warp: no layers");
   for (const WarpLayer& l : layers) {
     if (l.source.width == 0 || l.target.width == 0)
@@ -97,7 +97,7 @@ ForwardWarper::ForwardWarper(gpu::Context& context, const GpuCamera& source,
 ForwardWarper::ForwardWarper(gpu::Context& context, std::vector<WarpLayer> layers,
                              const WarpOptions& options)
     : context_(&context),
-      layers_(std::move(checked(layers, options.colour))),
+      layers_(checked(std::move(layers), options.colour)),
       options_(options),
       cameras_(context, 2 * layers_.size() * sizeof(GpuCamera)),
       directions_(context, layers_.size() * pixels(target()) * 16),
@@ -162,17 +162,17 @@ void ForwardWarper::record_inpaint(gpu::Sequence& seq, const gpu::Kernel& kernel
                                    gpu::Buffer* buffers, int first_pass, int passes,
                                    int* current) const {
   const GpuCamera& t = target();
-  const std::array<std::uint32_t, 3> groups = {(t.width + tile_ - 1) / tile_,
-                                               (t.height + tile_ - 1) / tile_,
-                                               std::uint32_t(layers_.size())};
+  const std::array<std::uint32_t, 3> groups = {
+      (t.width + tile_ - 1) / tile_, (t.height + tile_ - 1) / tile_, std::uint32_t(layers_.size())};
   const std::uint32_t wrap_x = t.model == std::uint32_t(GpuModel::kEquirectangular) ? 1u : 0u;
   for (int pass = first_pass; pass < first_pass + passes; pass += kPassesPerDispatch) {
     const int n = std::min(kPassesPerDispatch, first_pass + passes - pass);
-    const InpaintPush push{t.width, t.height, wrap_x, std::uint32_t(pass), std::uint32_t(n)};
+    const InpaintPush push{
+        t.width, t.height, wrap_x, std::uint32_t(pass), std::uint32_t(n), std::uint32_t(*current)};
     seq.dispatch(kernel,
                  {gpu::Texels(directions_, gpu::TexelFormat::kRgba32Uint),
-                  gpu::Texels(buffers[*current], gpu::TexelFormat::kR32Uint),
-                  buffers[1 - *current], filled_, tile_status_},
+                  gpu::Texels(buffers[*current], gpu::TexelFormat::kR32Uint), buffers[1 - *current],
+                  filled_, tile_status_},
                  push, groups);
     seq.barrier();
     *current = 1 - *current;
@@ -195,8 +195,7 @@ void ForwardWarper::record_warp(gpu::Sequence& seq, const gpu::Buffer& distance)
   seq.barrier();
   const float splat = float(options_.max_splat);
   seq.dispatch(warp_, {cameras_, gpu::Texels(distance, gpu::TexelFormat::kR32Float), buffers_[0]},
-               splat,
-               warp_.groups_for(source().width, source().height, count));
+               splat, warp_.groups_for(source().width, source().height, count));
   seq.barrier();
   result_ = 0;
 }
@@ -207,8 +206,8 @@ void ForwardWarper::record(gpu::Sequence& seq, const gpu::Buffer& distance) {
 }
 
 int ForwardWarper::run_until_filled(gpu::Sequence& seq, const gpu::Kernel& kernel,
-                                    gpu::Buffer* buffers, int max_passes, int batch,
-                                    double* gpu_ms, int* current) {
+                                    gpu::Buffer* buffers, int max_passes, int batch, double* gpu_ms,
+                                    int* current) {
   if (max_passes < 0 || max_passes > kMaxPasses || batch < 1)
     throw std::invalid_argument("forward warp: need max passes in [0, 1024] and batch >= 1");
   seq.fill(filled_, 0);

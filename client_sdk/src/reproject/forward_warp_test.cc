@@ -206,6 +206,54 @@ TEST_F(ForwardWarpTest, TiledInpaintingMatchesPassByPassInpainting) {
   }
 }
 
+// Adaptive inpainting in batches of any size (a dispatch per batch, its passes not a multiple of
+// the 8 a dispatch holds) equals the CPU's passes, also right after the same warper ran on
+// another map: the tile statuses one dispatch leaves for the next are read only by the next.
+TEST_F(ForwardWarpTest, AdaptiveInpaintingInAnyBatchMatchesTheCpu) {
+  const CameraModel<double> pinhole = PinholeCamera<double>({kFocal, kFocal, kCentre, kCentre});
+  const Rigid3d target_from_source(Eigen::Quaterniond::Identity(), Eigen::Vector3d(-0.3, 0, 0));
+  const GpuCamera source = pack_camera(pinhole, kSize, kSize, Rigid3d());
+  const GpuCamera target = pack_camera(pinhole, kSize, kSize, target_from_source);
+  const gpu::Buffer distance_buffer = source_distance(context());
+  ForwardWarper raw(context(), source, target, {.inpaint_passes = 0});
+  gpu::Sequence seq(context());
+  seq.begin();
+  raw.record(seq, distance_buffer);
+  seq.submit_and_wait();
+  const auto holes = raw.result().download<std::uint32_t>();
+  const auto directions = raw.directions().download<Direction>();
+  // A wall 5 m away everywhere: no disocclusion, so its run leaves nearly every tile settled.
+  const std::vector<float> wall(std::size_t(kSize) * kSize, 5.0f);
+  gpu::Buffer wall_buffer(context(), wall.size() * 4);
+  wall_buffer.upload(std::span<const float>(wall));
+  ForwardWarper warper(context(), source, target, {.inpaint_passes = 0});
+  for (const int batch : {8, 3, 5, 1, 8}) {
+    warper.set_inpaint_passes(16);  // two dispatches: both status sets written
+    seq.begin();
+    warper.record(seq, wall_buffer);
+    seq.submit_and_wait();
+    double ms = 0;
+    seq.begin();
+    warper.record_warp(seq, distance_buffer);
+    const int passes = warper.inpaint_until_filled(seq, 40, batch, &ms);
+    const auto gpu = warper.result().download<std::uint32_t>();
+    const auto cpu = inpaint_cpu(holes, directions, kSize, kSize, false, passes);
+    long differ = 0;
+    for (std::size_t i = 0; i < cpu.size(); ++i) {
+      if ((gpu[i] == 0xffffffffu) != (cpu[i] == 0xffffffffu)) {
+        ++differ;
+        continue;
+      }
+      if (cpu[i] == 0xffffffffu) continue;
+      float a, b;
+      std::memcpy(&a, &gpu[i], 4);
+      std::memcpy(&b, &cpu[i], 4);
+      differ += std::abs(a - b) > 1e-5f * std::abs(b);  // fused multiply-adds may round apart
+    }
+    EXPECT_EQ(differ, 0) << "batches of " << batch << ", " << passes << " passes";
+  }
+}
+
 // Layers (the stitcher's references) in each dispatch give each layer what a warper of its own
 // gives, bit for bit; layers of different sizes, or colour with layers, are refused.
 TEST_F(ForwardWarpTest, LayersWarpLikeSeparateWarpers) {
