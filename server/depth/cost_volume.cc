@@ -16,8 +16,7 @@ gpu::KernelLayout volume_kernel_layout(std::vector<gpu::BindingSlot> bindings,
                         gpu::SpecConstant::of(1, std::uint32_t(layout.chunks))}};
 }
 
-std::string volume_shader(const std::string& shader, VolumeLayout layout) {
-  const bool stores = shader != "winner_take_all";  // reads only: its texel format says it all
+std::string volume_shader(const std::string& shader, VolumeLayout layout, bool stores) {
   return shader + (layout.half && stores ? "_f16" : "") + (layout.pack == 4 ? "_x4" : "");
 }
 

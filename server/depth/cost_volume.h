@@ -33,10 +33,10 @@ struct VolumeLayout {
   }
 };
 
-// The kernel of `shader` that stores or reads volumes with `layout`: `shader`, or its build for
-// 16-bit values (_f16, kernels that store) and for channels packed by four (_x4)
-// (shaders/CMakeLists.txt).
-std::string volume_shader(const std::string& shader, VolumeLayout layout);
+// The kernel of `shader` that stores (or, `stores` false, only reads) volumes with `layout`:
+// `shader`, or its build for 16-bit values (_f16; a kernel that only reads has none, its texel
+// views convert) and for channels packed by four (_x4) (shaders/CMakeLists.txt).
+std::string volume_shader(const std::string& shader, VolumeLayout layout, bool stores = true);
 
 // The layout of a kernel that binds chunk arrays: `bindings` as in gpu::KernelLayout, 8x8x1
 // workgroups, and the volume's channels per chunk and chunk count as specialization constants

@@ -104,7 +104,7 @@ DepthEstimator::DepthEstimator(gpu::Context& context, const Rig& rig,
                                                          BindingSlot::texels(), 1, kMaxChunks},
                                                         sizeof(SweepPush), layout_),
                                    rig)),
-      wta_kernel_(context, volume_shader("winner_take_all", layout_),
+      wta_kernel_(context, volume_shader("winner_take_all", layout_, /*stores=*/false),
                   volume_kernel_layout({BindingSlot::texels(kMaxChunks), 1}, sizeof(WtaPush),
                                        layout_)),
       volume_(context, width_, height_, layout_),
@@ -195,7 +195,7 @@ void DepthEstimator::record_group(gpu::Sequence& seq, int first, bool filter, bo
   const auto group = std::uint32_t(group_size());  // groups divide the references evenly
   // Winner takes all in the filter's last pass (the volume is not written back) wherever there
   // is a filter with a last upsample; otherwise its own kernel reads the volume.
-  const bool fused_winner = filter && finish && filter_.levels() >= 2;
+  const bool fused_winner = filter && finish && winner_in_filter();
 
   seq.begin_stage("sweep_cost");
   SweepPush sweep{std::uint32_t(width_),
@@ -232,11 +232,11 @@ void DepthEstimator::record_group(gpu::Sequence& seq, int first, bool filter, bo
   seq.barrier();
 }
 
-void DepthEstimator::record_post_filter(gpu::Sequence& seq, bool guides_intact) {
+void DepthEstimator::record_post_filter(gpu::Sequence& seq) {
   seq.begin_stage("post_filter");
   // A filter whose last pass was not the fused winner left smoothed guides behind: start again
   // from the images.
-  if (!guides_intact) {
+  if (!winner_in_filter()) {
     record_guides(seq);
     seq.barrier();
   }
@@ -249,7 +249,7 @@ void DepthEstimator::record(gpu::Sequence& seq) {
   record_guides(seq);  // independent of the sweep: the sweep's barrier covers both
   for (int first = 0; first < int(slots()); first += group_size())
     record_group(seq, first, true, true);
-  if (options_.post_filter) record_post_filter(seq, filter_.levels() >= 2);
+  if (options_.post_filter) record_post_filter(seq);
   seq.end_stage();
 }
 

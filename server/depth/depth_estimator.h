@@ -66,7 +66,11 @@ class DepthEstimator {
   // at the end); `finish` ends in the distance maps, otherwise the volume is left behind.
   void record_group(gpu::Sequence& seq, int first, bool filter, bool finish);
   void record_guides(gpu::Sequence& seq);  // no barrier: the caller puts one before a use
-  void record_post_filter(gpu::Sequence& seq, bool guides_intact);
+  // After the filters of every group (the guides as they left them).
+  void record_post_filter(gpu::Sequence& seq);
+  // Whether a full frame's filter ends in winner-takes-all (a last upsample to fuse it into),
+  // which leaves the full-resolution guides as the images gave them.
+  bool winner_in_filter() const { return filter_.levels() >= 2; }
   std::uint32_t slots() const { return std::uint32_t(options_.references.size()); }
 
   gpu::Context* context_;

@@ -95,8 +95,10 @@ void IsbFilter::record_winner_take_all(gpu::Sequence& seq, gpu::Buffer& guide,
 void IsbFilter::record(gpu::Sequence& seq, gpu::Buffer& guide, CostVolume& volume,
                        const IsbParams& params, gpu::Buffer* distance, const WtaParams& wta,
                        int guide_first, int distance_first) {
-  if (volume.layout().slots != layout_.slots || guide_first < 0 || distance_first < 0)
+  if (volume.layout().slots != layout_.slots)
     throw std::invalid_argument("ISB filter: the volume's slots differ from the filter's");
+  if (guide_first < 0 || distance_first < 0)
+    throw std::invalid_argument("ISB filter: negative guide or distance plane");
   const auto slots = std::uint32_t(layout_.slots);
   const float inv_two_sigma_sq = float(1.0 / (2.0 * params.sigma_i * params.sigma_i));
   auto guide_at = [&](int l) -> gpu::Buffer& { return l == 0 ? guide : guides_[l - 1]; };

@@ -1,6 +1,7 @@
 #include "omnisweep/gpu/buffer.h"
 
 #include <cstring>
+#include <iterator>
 
 #include "omnisweep/gpu/command_log.h"
 #include "staging.h"
@@ -8,45 +9,33 @@
 namespace omnisweep::gpu {
 namespace {
 
-constexpr auto kUsage = vk::BufferUsageFlagBits::eStorageBuffer |
-                        vk::BufferUsageFlagBits::eUniformTexelBuffer |
-                        vk::BufferUsageFlagBits::eUniformBuffer |
-                        vk::BufferUsageFlagBits::eTransferSrc |
-                        vk::BufferUsageFlagBits::eTransferDst;
+constexpr auto kUsage =
+    vk::BufferUsageFlagBits::eStorageBuffer | vk::BufferUsageFlagBits::eUniformTexelBuffer |
+    vk::BufferUsageFlagBits::eUniformBuffer | vk::BufferUsageFlagBits::eTransferSrc |
+    vk::BufferUsageFlagBits::eTransferDst;
 
-vk::Format vk_format(TexelFormat format) {
-  switch (format) {
-    case TexelFormat::kR32Uint:
-      return vk::Format::eR32Uint;
-    case TexelFormat::kRgba32Uint:
-      return vk::Format::eR32G32B32A32Uint;
-    case TexelFormat::kR32Float:
-      return vk::Format::eR32Sfloat;
-    case TexelFormat::kR16Float:
-      return vk::Format::eR16Sfloat;
-    case TexelFormat::kRgba16Float:
-      return vk::Format::eR16G16B16A16Sfloat;
-    case TexelFormat::kRgba32Float:
-      return vk::Format::eR32G32B32A32Sfloat;
-  }
-  throw GpuError("unknown texel format");
+// Each TexelFormat's Vulkan format and size, in the enum's order.
+struct TexelFormatInfo {
+  vk::Format format;
+  std::uint32_t bytes;
+};
+constexpr TexelFormatInfo kTexelFormats[] = {{vk::Format::eR32Uint, 4},
+                                             {vk::Format::eR32G32B32A32Uint, 16},
+                                             {vk::Format::eR32Sfloat, 4},
+                                             {vk::Format::eR16Sfloat, 2},
+                                             {vk::Format::eR16G16B16A16Sfloat, 8},
+                                             {vk::Format::eR32G32B32A32Sfloat, 16}};
+
+static_assert(std::size(kTexelFormats) == std::size_t(TexelFormat::kRgba32Float) + 1,
+              "one entry per TexelFormat");
+
+const TexelFormatInfo& info_of(TexelFormat format) {
+  return kTexelFormats[static_cast<std::size_t>(format)];
 }
 
 }  // namespace
 
-std::uint32_t texel_bytes(TexelFormat format) {
-  switch (format) {
-    case TexelFormat::kRgba32Uint:
-    case TexelFormat::kRgba32Float:
-      return 16;
-    case TexelFormat::kRgba16Float:
-      return 8;
-    case TexelFormat::kR16Float:
-      return 2;
-    default:
-      return 4;
-  }
-}
+std::uint32_t texel_bytes(TexelFormat format) { return info_of(format).bytes; }
 
 Buffer::Buffer(Context& context, vk::DeviceSize bytes) : context_(&context), size_(bytes) {
   if (bytes == 0) throw GpuError("cannot create an empty GPU buffer");
@@ -109,10 +98,10 @@ vk::BufferView Buffer::texel_view(TexelFormat format) const {
                    "], the device's maxTexelBufferElements");
   }
   try {
-    views_.emplace_back(format, vk::raii::BufferView(
-                                    context_->device(),
-                                    vk::BufferViewCreateInfo({}, *buffer_, vk_format(format), 0,
-                                                             texels * texel_bytes(format))));
+    views_.emplace_back(
+        format, vk::raii::BufferView(context_->device(),
+                                     vk::BufferViewCreateInfo({}, *buffer_, info_of(format).format,
+                                                              0, texels * texel_bytes(format))));
   } catch (const vk::SystemError& e) {
     throw GpuError(std::string("cannot create a texel view of a GPU buffer: ") + e.what());
   }

@@ -89,7 +89,6 @@ DeviceInfo describe(const vk::raii::PhysicalDevice& device, int index) {
     info.storage_16bit =
         features.get<vk::PhysicalDevice16BitStorageFeatures>().storageBuffer16BitAccess;
   }
-
   info.max_storage_buffers_per_stage = props.limits.maxPerStageDescriptorStorageBuffers;
   info.max_texel_buffer_elements = props.limits.maxTexelBufferElements;
   info.max_sampled_images_per_stage = props.limits.maxPerStageDescriptorSampledImages;

@@ -23,7 +23,6 @@ Sequence::Sequence(const Context& context, std::uint32_t max_dispatches, std::ui
     : context_(&context),
       profile_kernels_(profile_kernels()),
       max_stages_(profile_kernels_ ? std::max(max_stages, 2 * max_dispatches) : max_stages) {
-  max_stages = max_stages_;
   const std::array<vk::DescriptorPoolSize, 4> sizes = {
       vk::DescriptorPoolSize(vk::DescriptorType::eStorageBuffer, max_dispatches * 24),
       vk::DescriptorPoolSize(vk::DescriptorType::eStorageImage, max_dispatches * 4),
@@ -40,7 +39,7 @@ Sequence::Sequence(const Context& context, std::uint32_t max_dispatches, std::ui
       vk::CommandBufferAllocateInfo(*command_pool_, vk::CommandBufferLevel::ePrimary, 1));
   if (context.info().timestamps) {
     queries_ = vk::raii::QueryPool(
-        context.device(), vk::QueryPoolCreateInfo({}, vk::QueryType::eTimestamp, 2 * max_stages));
+        context.device(), vk::QueryPoolCreateInfo({}, vk::QueryType::eTimestamp, 2 * max_stages_));
   }
   fence_ = vk::raii::Fence(context.device(), vk::FenceCreateInfo());
 }

@@ -19,7 +19,8 @@ namespace omnisweep::gpu {
 // How a kernel reads a buffer through a uniform texel buffer (GLSL usamplerBuffer / samplerBuffer
 // with texelFetch). Reads of texel buffers are gathers on CPU devices (lavapipe fetches eight
 // lanes with one vector gather, where a storage-buffer load is a loop over the lanes) and go
-// through the texture cache on GPUs; the values are the buffer's bits, unfiltered.
+// through the texture cache on GPUs; the values are the buffer's bits, unfiltered. (buffer.cc
+// keeps a table in this order.)
 enum class TexelFormat {
   kR32Uint,     // usamplerBuffer, one uint per texel
   kRgba32Uint,  // usamplerBuffer, a uvec4 per texel (16 bytes)

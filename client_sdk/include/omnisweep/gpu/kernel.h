@@ -1,7 +1,7 @@
-// One compute kernel: a pipeline built from embedded SPIR-V (shaders/<name>.comp), with storage
-// buffer bindings (storage, texel or uniform buffers; each binding may be an array), then storage
-// image bindings, push constants and specialization constants. Workgroup sizes are specialization constants 100, 101,
-// 102 (local_size_x_id etc. in the shader), so the host always knows them.
+// One compute kernel: a pipeline built from embedded SPIR-V (shaders/<name>.comp), with buffer
+// bindings (storage, texel or uniform buffers; each binding may be an array), then storage image
+// bindings, push constants and specialization constants. Workgroup sizes are specialization
+// constants 100, 101, 102 (local_size_x_id etc. in the shader), so the host always knows them.
 #pragma once
 
 #include <array>

@@ -54,9 +54,9 @@ class Sequence {
   void begin();
 
   // Binds `bindings` in order (binding i gets bindings[i]: the kernel's buffers, then its
-  // images, then its texel buffers), pushes `push` and dispatches.
+  // images), pushes `push` and dispatches.
   // Throws GpuError when a binding does not match the kernel's layout or exceeds the device's
-  // maxStorageBufferRange.
+  // maxStorageBufferRange, maxUniformBufferRange or maxTexelBufferElements.
   void dispatch(const Kernel& kernel, const std::vector<Binding>& bindings, const void* push,
                 std::size_t push_bytes, std::array<std::uint32_t, 3> groups);
   template <typename Push>
