@@ -161,6 +161,24 @@ std::vector<std::uint32_t> inpaint_cpu(std::vector<std::uint32_t> bits,
   return bits;
 }
 
+// Pixels where inpainted maps (float bits, 0xffffffff empty) disagree: one empty and the other
+// not, or values more than 1e-5 apart relative (fused multiply-adds may round apart).
+long pixels_apart(const std::vector<std::uint32_t>& gpu, const std::vector<std::uint32_t>& cpu) {
+  long differ = 0;
+  for (std::size_t i = 0; i < cpu.size(); ++i) {
+    if ((gpu[i] == 0xffffffffu) != (cpu[i] == 0xffffffffu)) {
+      ++differ;
+      continue;
+    }
+    if (cpu[i] == 0xffffffffu) continue;
+    float a, b;
+    std::memcpy(&a, &gpu[i], 4);
+    std::memcpy(&b, &cpu[i], 4);
+    differ += std::abs(a - b) > 1e-5f * std::abs(b);
+  }
+  return differ;
+}
+
 // The tiled kernel against the CPU, pass counts across dispatch boundaries (8 passes each), on a
 // pinhole target and on a panorama that wraps around and is no multiple of the tile size.
 TEST_F(ForwardWarpTest, TiledInpaintingMatchesPassByPassInpainting) {
@@ -187,19 +205,10 @@ TEST_F(ForwardWarpTest, TiledInpaintingMatchesPassByPassInpainting) {
       seq.submit_and_wait();
       const auto gpu = warper.result().download<std::uint32_t>();
       const auto cpu = inpaint_cpu(holes, directions, w, h, wrap, passes);
-      long differ = 0, filled = 0;
-      for (std::size_t i = 0; i < cpu.size(); ++i) {
+      long filled = 0;
+      for (std::size_t i = 0; i < cpu.size(); ++i)
         filled += holes[i] == 0xffffffffu && cpu[i] != 0xffffffffu;
-        if ((gpu[i] == 0xffffffffu) != (cpu[i] == 0xffffffffu)) {
-          ++differ;
-          continue;
-        }
-        if (cpu[i] == 0xffffffffu) continue;
-        float a, b;
-        std::memcpy(&a, &gpu[i], 4);
-        std::memcpy(&b, &cpu[i], 4);
-        differ += std::abs(a - b) > 1e-5f * std::abs(b);  // fused multiply-adds may round apart
-      }
+      const long differ = pixels_apart(gpu, cpu);
       EXPECT_EQ(differ, 0) << (wrap ? "panorama" : "pinhole") << ", " << passes << " passes";
       EXPECT_GT(filled, 0) << passes << " passes filled nothing: the check proves nothing";
     }
@@ -238,19 +247,7 @@ TEST_F(ForwardWarpTest, AdaptiveInpaintingInAnyBatchMatchesTheCpu) {
     const int passes = warper.inpaint_until_filled(seq, 40, batch, &ms);
     const auto gpu = warper.result().download<std::uint32_t>();
     const auto cpu = inpaint_cpu(holes, directions, kSize, kSize, false, passes);
-    long differ = 0;
-    for (std::size_t i = 0; i < cpu.size(); ++i) {
-      if ((gpu[i] == 0xffffffffu) != (cpu[i] == 0xffffffffu)) {
-        ++differ;
-        continue;
-      }
-      if (cpu[i] == 0xffffffffu) continue;
-      float a, b;
-      std::memcpy(&a, &gpu[i], 4);
-      std::memcpy(&b, &cpu[i], 4);
-      differ += std::abs(a - b) > 1e-5f * std::abs(b);  // fused multiply-adds may round apart
-    }
-    EXPECT_EQ(differ, 0) << "batches of " << batch << ", " << passes << " passes";
+    EXPECT_EQ(pixels_apart(gpu, cpu), 0) << "batches of " << batch << ", " << passes << " passes";
   }
 }
 
