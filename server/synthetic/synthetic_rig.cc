@@ -34,6 +34,7 @@ void SyntheticRigOptions::check() const {
     throw std::invalid_argument("lens half field of view must be within (0, 180] degrees");
   }
   if (references.empty()) throw std::invalid_argument("at least one reference camera is needed");
+  photometric.check();
 }
 
 Rig default_synthetic_rig(int image_size) {
@@ -78,6 +79,8 @@ SyntheticRig::SyntheticRig(const SyntheticRigOptions& options, const Rig* calibr
   std::vector<Eigen::Vector3f> path;
   for (int i = 0; i < 256; ++i) path.push_back(path_position(i / 256.0).cast<float>());
   scene_ = Scene::hall(options_.seed, path);
+  for (int c = 0; c < rig_.num_cameras(); ++c)
+    responses_.push_back(draw_camera_response(options_.photometric, options_.seed, c));
 }
 
 Eigen::Vector3d SyntheticRig::viewpoint() const {
@@ -104,9 +107,15 @@ std::vector<Gray8Image> SyntheticRig::masks() const {
 SyntheticFrame SyntheticRig::render(int index, int panorama_width, int panorama_height) const {
   SyntheticFrame frame;
   frame.world_from_rig = world_from_rig(index);
-  for (const RigCamera& cam : rig_.cameras) {
+  for (int c = 0; c < rig_.num_cameras(); ++c) {
+    const RigCamera& cam = rig_.cameras[c];
     frame.cameras.push_back(
         render_camera(scene_, cam, frame.world_from_rig, options_.lens_half_fov_deg * kPi / 180));
+    // Noise differs from frame to frame and camera to camera, and repeats with the seed.
+    const std::uint64_t noise_seed =
+        (options_.seed * 0x9e3779b97f4a7c15ull) ^ (std::uint64_t(index) << 8) ^ std::uint64_t(c);
+    apply_camera_response(options_.photometric, responses_[c], cam, noise_seed,
+                          &frame.cameras.back().rgb);
   }
   frame.panorama =
       render_panorama(scene_, frame.world_from_rig, viewpoint(), panorama_width, panorama_height);

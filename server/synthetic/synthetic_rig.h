@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "omnisweep/rig/rig.h"
+#include "server/synthetic/photometric.h"
 #include "server/synthetic/renderer.h"
 #include "server/synthetic/scene.h"
 
@@ -21,6 +22,8 @@ struct SyntheticRigOptions {
   int frames_per_loop = 300;         // one lap of the path (10 s at 30 fps)
   double lens_half_fov_deg = 110.0;  // 220-degree lenses
   std::vector<int> references = {2, 3};
+  PhotometricOptions photometric =
+      {};  // none by default: every camera sees the scene's own colours
   // Throws std::invalid_argument naming the bad option.
   void check() const;
 };
@@ -47,6 +50,8 @@ class SyntheticRig {
   // The rig's pose at frame `index` (the path repeats every frames_per_loop frames).
   Rigid3d world_from_rig(int index) const;
   std::vector<Gray8Image> masks() const;
+  // Camera c's gain, colour cast and vignetting (options().photometric, drawn from the seed).
+  const CameraResponse& response(int camera) const { return responses_.at(camera); }
 
   SyntheticFrame render(int index, int panorama_width = 2048, int panorama_height = 1024) const;
   RenderedImage render_panorama_at(int index, const Eigen::Vector3d& viewpoint_in_rig, int width,
@@ -56,6 +61,7 @@ class SyntheticRig {
   SyntheticRigOptions options_;
   Rig rig_;
   Scene scene_;
+  std::vector<CameraResponse> responses_;
 };
 
 }  // namespace omnisweep::synthetic

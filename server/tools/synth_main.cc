@@ -49,7 +49,39 @@ int run(int argc, char** argv) {
   app.add_option("--lens-fov", rig_options.lens_half_fov_deg,
                  "Half field of view of the lenses, degrees")
       ->check(CLI::Range(1.0, 180.0));
+  bool realistic = false;
+  double gain_spread = -1, color_cast = -1, noise = -1;
+  std::vector<double> vignetting;
+  app.add_flag("--photometric", realistic,
+               "Give the cameras the realistic gains, colour casts and vignetting the robustness "
+               "targets use (gain 0.75-1.25, cast +-6 %, 45-65 % brightness at 110 degrees); "
+               "the options below override single parts");
+  app.add_option("--gain-spread", gain_spread, "Per-camera gain uniform in [1 - S, 1 + S]")
+      ->check(CLI::Range(0.0, 0.9));
+  app.add_option("--color-cast", color_cast,
+                 "Per-camera, per-channel colour factor uniform in [1 - C, 1 + C]")
+      ->check(CLI::Range(0.0, 0.5));
+  app.add_option("--vignetting", vignetting,
+                 "Per-camera brightness left at 110 degrees off axis, uniform in [LO, HI]")
+      ->expected(2)
+      ->check(CLI::Range(0.05, 1.0));
+  app.add_option("--noise", noise, "Gaussian sensor noise, 8-bit levels, new every frame")
+      ->check(CLI::Range(0.0, 64.0));
   CLI11_PARSE(app, argc, argv);
+  auto& photometric = rig_options.photometric;
+  if (realistic) photometric = omnisweep::synthetic::PhotometricOptions::realistic();
+  if (gain_spread >= 0) photometric.gain_spread = gain_spread;
+  if (color_cast >= 0) photometric.color_cast = color_cast;
+  if (noise >= 0) photometric.noise_sigma = noise;
+  if (!vignetting.empty()) {
+    if (vignetting[0] > vignetting[1]) {
+      std::fprintf(stderr, "omnisweep-synth: --vignetting %g %g: LO must not exceed HI\n",
+                   vignetting[0], vignetting[1]);
+      return 2;
+    }
+    photometric.vignetting_min = vignetting[0];
+    photometric.vignetting_max = vignetting[1];
+  }
   if (panorama[0] != 2 * panorama[1]) {
     std::fprintf(stderr, "omnisweep-synth: --panorama %d %d: width must be twice the height\n",
                  panorama[0], panorama[1]);
