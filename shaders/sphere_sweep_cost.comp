@@ -8,7 +8,13 @@
 // at the projection of ray * d_i (taps outside the image read 0) and store the L1 colour
 // difference (0-255 per channel, summed) clamped at 500. Pixels without a selected camera get
 // cost 0 for every candidate. Every reference of the group in one dispatch: z is the slot.
+//
+// kCost (DepthOptions::cost) chooses the cost. 0: the paper's, above, on the camera images. The
+// others read the matching features instead (matching_features.comp) and interpolate their
+// per-tap differences bilinearly: 1, the L1 difference of the normalised colours; 2, the Hamming
+// distance of the census bytes (x census_scale); 3, their sum.
 layout(local_size_x_id = 100, local_size_y_id = 101, local_size_z_id = 102) in;
+layout(constant_id = 30) const uint kCost = 0u;
 
 #include "camera.glsl"
 #include "pixels.glsl"
@@ -16,7 +22,8 @@ layout(local_size_x_id = 100, local_size_y_id = 101, local_size_z_id = 102) in;
 
 // Per reference (first + slot): num_cameras records, the reference's frame to each camera's.
 CAMERA_RECORDS(0)
-layout(set = 0, binding = 1) uniform usamplerBuffer images;  // RGBA8 texels, camera-major
+// RGBA8 texels, camera-major: the images (kCost 0) or their matching features.
+layout(set = 0, binding = 1) uniform usamplerBuffer images;
 layout(std430, set = 0, binding = 2) readonly buffer Selection { int selection[]; };  // per reference
 layout(std430, set = 0, binding = 3) writeonly buffer Volume { VOLUME_T v[]; } volume[kMaxChunks];
 layout(push_constant) uniform Push {
@@ -27,6 +34,7 @@ layout(push_constant) uniform Push {
   uint num_candidates;
   float inv_d_min;
   float inv_d_max;
+  float census_scale;
   uint references[8];  // the camera of each reference
 } push;
 
@@ -46,12 +54,44 @@ vec3 bilinear(uint camera, vec2 uv) {
              mix(tap(camera, x, y + 1), tap(camera, x + 1, y + 1), t.x), t.y);
 }
 
+// The robust costs: the differences of the four taps to the reference's features, bilinearly.
+float feature_difference(uint features, uint reference) {
+  const vec3 d = abs(unpack_rgb(features) - unpack_rgb(reference));
+  const float census = float(bitCount((features ^ reference) >> 24));
+  if (kCost == 1u) return d.x + d.y + d.z;
+  if (kCost == 2u) return census * push.census_scale;
+  return d.x + d.y + d.z + census * push.census_scale;
+}
+
+float tap_difference(uint camera, int x, int y, uint reference) {
+  if (x < 0 || y < 0 || x >= int(push.width) || y >= int(push.height)) return 500.0;
+  return feature_difference(texelFetch(images, int((camera * push.height + uint(y)) * push.width + uint(x))).x,
+                            reference);
+}
+
+float bilinear_difference(uint camera, vec2 uv, uint reference) {
+  if (uv.x < -2.0 || uv.y < -2.0 || uv.x > float(push.width) + 1.0 || uv.y > float(push.height) + 1.0) {
+    return 500.0;
+  }
+  const vec2 f = floor(uv);
+  const vec2 t = uv - f;
+  const int x = int(f.x), y = int(f.y);
+  return mix(mix(tap_difference(camera, x, y, reference), tap_difference(camera, x + 1, y, reference), t.x),
+             mix(tap_difference(camera, x, y + 1, reference), tap_difference(camera, x + 1, y + 1, reference), t.x),
+             t.y);
+}
+
 // The cost of candidate i (0 past the last candidate: padding).
 float candidate_cost(uint i, Camera c, vec3 rotated, vec3 translation, int selected,
-                     vec3 reference_rgb, float step) {
+                     uint reference, float step) {
   if (i >= push.num_candidates) return 0.0;
   const float distance_i = 1.0 / (push.inv_d_min + step * float(i));
   vec2 uv;
+  if (kCost != 0u) {
+    const bool seen = project_source(c, distance_i * rotated + translation, uv);
+    return min(seen ? bilinear_difference(uint(selected), uv, reference) : 500.0, 500.0);
+  }
+  const vec3 reference_rgb = unpack_rgb(reference);
   vec3 rgb = vec3(0.0);
   if (project_source(c, distance_i * rotated + translation, uv)) rgb = bilinear(uint(selected), uv);
   const vec3 d = abs(rgb - reference_rgb);
@@ -68,7 +108,7 @@ void main() {
   vec3 ray = vec3(0.0);
   const uint records = reference * push.num_cameras;
   const bool matching = selected >= 0 && unproject_source(cameras[records + camera], vec2(g.xy), ray);
-  const vec3 reference_rgb = unpack_rgb(texelFetch(images, int(camera * plane + pixel)).x);
+  const uint reference_texel = texelFetch(images, int(camera * plane + pixel)).x;
   const float step = (push.inv_d_max - push.inv_d_min) / float(push.num_candidates - 1u);
   // What does not change with the candidate, once per pixel: the selected camera and the ray in
   // its axes (the point at distance d is d * rotated + translation).
@@ -82,12 +122,12 @@ void main() {
   uint t = 0u;
   for (; t < matched; ++t) {
 #if VOLUME_PACK == 4
-    const VOLUME_V cost = vec4(candidate_cost(4u * t, c, rotated, translation, selected, reference_rgb, step),
-                               candidate_cost(4u * t + 1u, c, rotated, translation, selected, reference_rgb, step),
-                               candidate_cost(4u * t + 2u, c, rotated, translation, selected, reference_rgb, step),
-                               candidate_cost(4u * t + 3u, c, rotated, translation, selected, reference_rgb, step));
+    const VOLUME_V cost = vec4(candidate_cost(4u * t, c, rotated, translation, selected, reference_texel, step),
+                               candidate_cost(4u * t + 1u, c, rotated, translation, selected, reference_texel, step),
+                               candidate_cost(4u * t + 2u, c, rotated, translation, selected, reference_texel, step),
+                               candidate_cost(4u * t + 3u, c, rotated, translation, selected, reference_texel, step));
 #else
-    const VOLUME_V cost = candidate_cost(t, c, rotated, translation, selected, reference_rgb, step);
+    const VOLUME_V cost = candidate_cost(t, c, rotated, translation, selected, reference_texel, step);
 #endif
     volume[t / kTexels].v[volume_index(slot, t % kTexels, plane, pixel)] = VOLUME_T(cost);
   }

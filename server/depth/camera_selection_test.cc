@@ -2,7 +2,6 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-
 #include <random>
 
 #include "omnisweep/dataset/dataset.h"
@@ -93,8 +92,8 @@ TEST_F(DepthKernelTest, SweepCostEqualsCpu) {
       std::vector<float> differences;
       for (int y = 0; y < 128; y += 3) {
         for (int x = 0; x < 128; x += 3) {
-          const auto cpu = sweep_cost_cpu(scene.rig.rig(), options.references[slot],
-                                          selected(x, y), images, options, x, y);
+          const auto cpu = sweep_cost_cpu(scene.rig.rig(), options.references[slot], selected(x, y),
+                                          images, options, x, y);
           for (int i = 0; i < options.num_candidates; ++i) {
             const float d =
                 std::abs(cpu[i] - gpu[(std::size_t(y) * 128 + x) * options.num_candidates + i]);
@@ -131,8 +130,8 @@ TEST_F(DepthKernelTest, YCbCrGuideEqualsCpu) {
   gpu::Sequence seq(context());
   seq.begin();
   const std::uint32_t push[2 + 8] = {w, h, 0};  // width, height, the camera of slot 0
-  seq.dispatch(kernel, {gpu::Texels(images, gpu::TexelFormat::kR32Uint), guide}, push,
-               sizeof(push), kernel.groups_for(w, h));
+  seq.dispatch(kernel, {gpu::Texels(images, gpu::TexelFormat::kR32Uint), guide}, push, sizeof(push),
+               kernel.groups_for(w, h));
   seq.submit_and_wait();
   EXPECT_EQ(guide.download<std::uint32_t>(), ycbcr_guide_cpu(rgb));
 }

@@ -1,7 +1,6 @@
 #include "server/depth/cost_volume.h"
 
 #include <Eigen/Core>
-
 #include <algorithm>
 #include <stdexcept>
 
@@ -26,22 +25,21 @@ VolumeLayout plan_volume(const gpu::Context& context, int width, int height, int
   const std::uint64_t value_bytes = half ? 2 : 4;
   const int pack = channels > 1 ? 4 : 1;
   // A chunk is bound as a storage buffer and read as a texel buffer: both limits hold.
-  const std::uint64_t limit = std::min<std::uint64_t>(
-      context.info().max_storage_buffer_range,
-      context.info().max_texel_buffer_elements * value_bytes * pack);
+  const std::uint64_t limit =
+      std::min<std::uint64_t>(context.info().max_storage_buffer_range,
+                              context.info().max_texel_buffer_elements * value_bytes * pack);
   const std::uint64_t pixel_bytes = std::uint64_t(width) * height * value_bytes * slots;
   int per_chunk = std::min((channels + pack - 1) / pack * pack, kMaxChannelsPerChunk);
   while (per_chunk > pack && pixel_bytes * per_chunk > limit)
     per_chunk = ((per_chunk + 1) / 2 + pack - 1) / pack * pack;
   const int chunks = (channels + per_chunk - 1) / per_chunk;
   if (pixel_bytes * per_chunk > limit || chunks > kMaxChunks) {
-    throw gpu::GpuError(std::to_string(channels) + " channels of " + std::to_string(slots) +
-                        " reference(s) at " + std::to_string(width) + "x" +
-                        std::to_string(height) + " do not fit in " + std::to_string(kMaxChunks) +
-                        " buffers of at most " + std::to_string(limit >> 20) +
-                        " MiB (maxStorageBufferRange and maxTexelBufferElements of " +
-                        context.info().name +
-                        "); lower the matching resolution or the number of candidates");
+    throw gpu::GpuError(
+        std::to_string(channels) + " channels of " + std::to_string(slots) + " reference(s) at " +
+        std::to_string(width) + "x" + std::to_string(height) + " do not fit in " +
+        std::to_string(kMaxChunks) + " buffers of at most " + std::to_string(limit >> 20) +
+        " MiB (maxStorageBufferRange and maxTexelBufferElements of " + context.info().name +
+        "); lower the matching resolution or the number of candidates");
   }
   return {per_chunk, chunks, half, slots, pack};
 }
@@ -52,7 +50,9 @@ namespace {
 // of the pixel (volume.glsl), at component j % pack.
 auto element_of(const VolumeLayout& layout, std::size_t pixels) {
   const std::size_t pack = layout.pack;
-  return [pack, pixels](std::size_t j, std::size_t p) { return (j / pack * pixels + p) * pack + j % pack; };
+  return [pack, pixels](std::size_t j, std::size_t p) {
+    return (j / pack * pixels + p) * pack + j % pack;
+  };
 }
 
 }  // namespace

@@ -18,9 +18,14 @@ struct GuidePush {
   std::uint32_t width, height;
   std::uint32_t references[kMaxReferences];
 };
+struct FeaturesPush {
+  std::uint32_t width, height;
+  std::int32_t radius, census_radius;
+  float epsilon;
+};
 struct SweepPush {
   std::uint32_t width, height, num_cameras, first, num_candidates;
-  float inv_d_min, inv_d_max;
+  float inv_d_min, inv_d_max, census_scale;
   std::uint32_t references[kMaxReferences];
 };
 struct WtaPush {
@@ -33,6 +38,13 @@ struct WtaPush {
 gpu::KernelLayout with_rig_model(gpu::KernelLayout layout, const Rig& rig) {
   const auto models = reproject::model_constants(reproject::common_model(rig));
   layout.constants.insert(layout.constants.end(), models.begin(), models.end());
+  return layout;
+}
+
+// The sweep's layout: the camera model's constants and the matching cost (constant 30).
+gpu::KernelLayout sweep_layout(gpu::KernelLayout layout, const Rig& rig, MatchingCost cost) {
+  layout = with_rig_model(std::move(layout), rig);
+  layout.constants.push_back(gpu::SpecConstant::of(30, std::uint32_t(cost)));
   return layout;
 }
 
@@ -96,21 +108,27 @@ DepthEstimator::DepthEstimator(gpu::Context& context, const Rig& rig,
                         {.bindings = {reproject::camera_binding(), 1, 1},
                          .push_constant_bytes = sizeof(SelectionPush),
                          .constants = reproject::model_constants(reproject::common_model(rig))}),
-      guide_kernel_(context, "ycbcr_guide",
-                    {.bindings = {BindingSlot::texels(), 1},
-                     .push_constant_bytes = sizeof(GuidePush)}),
+      guide_kernel_(
+          context, "ycbcr_guide",
+          {.bindings = {BindingSlot::texels(), 1}, .push_constant_bytes = sizeof(GuidePush)}),
+      features_kernel_(
+          context, "matching_features",
+          {.bindings = {BindingSlot::texels(), 1}, .push_constant_bytes = sizeof(FeaturesPush)}),
       sweep_kernel_(context, volume_shader("sphere_sweep_cost", layout_),
-                    with_rig_model(volume_kernel_layout({reproject::camera_binding(),
-                                                         BindingSlot::texels(), 1, kMaxChunks},
-                                                        sizeof(SweepPush), layout_),
-                                   rig)),
-      wta_kernel_(context, volume_shader("winner_take_all", layout_, /*stores=*/false),
-                  volume_kernel_layout({BindingSlot::texels(kMaxChunks), 1}, sizeof(WtaPush),
-                                       layout_)),
+                    sweep_layout(volume_kernel_layout({reproject::camera_binding(),
+                                                       BindingSlot::texels(), 1, kMaxChunks},
+                                                      sizeof(SweepPush), layout_),
+                                 rig, options.cost)),
+      wta_kernel_(
+          context, volume_shader("winner_take_all", layout_, /*stores=*/false),
+          volume_kernel_layout({BindingSlot::texels(kMaxChunks), 1}, sizeof(WtaPush), layout_)),
       volume_(context, width_, height_, layout_),
       filter_(context, width_, height_, layout_),
       post_filter_(context, width_, height_, VolumeLayout{1, 1, false, int(slots())}),
       images_(context, std::uint64_t(width_) * height_ * 4 * rig.num_cameras()),
+      features_(context, options.cost == MatchingCost::kAbsoluteDifference
+                             ? 16
+                             : std::uint64_t(width_) * height_ * 4 * rig.num_cameras()),
       guide_(context, std::uint64_t(width_) * height_ * 4 * slots()),
       dummy_(context, 16),
       cameras_(context, slots() * rig.num_cameras() * sizeof(reproject::GpuCamera)),
@@ -148,12 +166,12 @@ DepthEstimator::DepthEstimator(gpu::Context& context, const Rig& rig,
   cameras_.upload(packed.data(), packed.size() * sizeof(reproject::GpuCamera));
   sequence_.begin();
   for (std::uint32_t slot = 0; slot < slots(); ++slot) {
-    sequence_.dispatch(selection_kernel_, {cameras_, masks, selections_},
-                       SelectionPush{std::uint32_t(width_), std::uint32_t(height_),
-                                     std::uint32_t(rig.num_cameras()),
-                                     std::uint32_t(options.references[slot]), slot,
-                                     float(options.min_distance), float(options.max_distance)},
-                       selection_kernel_.groups_for(width_, height_));
+    sequence_.dispatch(
+        selection_kernel_, {cameras_, masks, selections_},
+        SelectionPush{std::uint32_t(width_), std::uint32_t(height_),
+                      std::uint32_t(rig.num_cameras()), std::uint32_t(options.references[slot]),
+                      slot, float(options.min_distance), float(options.max_distance)},
+        selection_kernel_.groups_for(width_, height_));
   }
   sequence_.submit_and_wait();
   gpu_bytes_ = context.allocated_bytes() - masks.size() - allocated_before_;
@@ -189,6 +207,15 @@ void DepthEstimator::record_guides(gpu::Sequence& seq) {
                guide_kernel_.groups_for(width_, height_, slots()));
 }
 
+void DepthEstimator::record_features(gpu::Sequence& seq) {
+  seq.dispatch(
+      features_kernel_, {image_texels(images_), features_},
+      FeaturesPush{std::uint32_t(width_), std::uint32_t(height_),
+                   options_.scaled_radius(options_.feature_radius),
+                   options_.scaled_radius(options_.census_radius), float(options_.feature_epsilon)},
+      features_kernel_.groups_for(width_, height_, rig_.num_cameras()));
+}
+
 void DepthEstimator::record_group(gpu::Sequence& seq, int first, bool filter, bool finish) {
   const float inv_d_min = float(1.0 / options_.min_distance),
               inv_d_max = float(1.0 / options_.max_distance);
@@ -205,9 +232,12 @@ void DepthEstimator::record_group(gpu::Sequence& seq, int first, bool filter, bo
                   std::uint32_t(options_.num_candidates),
                   inv_d_min,
                   inv_d_max,
+                  float(options_.census_scale),
                   {}};
   set_references(sweep, options_.references);
-  seq.dispatch(sweep_kernel_, {cameras_, image_texels(images_), selections_, volume_.binding(dummy_)},
+  seq.dispatch(sweep_kernel_,
+               {cameras_, image_texels(robust_cost() ? features_ : images_), selections_,
+                volume_.binding(dummy_)},
                sweep, sweep_kernel_.groups_for(width_, height_, group));
   seq.barrier();
   if (filter) {
@@ -215,8 +245,8 @@ void DepthEstimator::record_group(gpu::Sequence& seq, int first, bool filter, bo
     const IsbParams params{options_.sigma_i, options_.scaled_sigma_s()};
     if (fused_winner) {
       filter_.record_winner_take_all(seq, guide_, volume_, params, distances_.chunks()[0],
-                                     {std::uint32_t(options_.num_candidates), inv_d_min,
-                                      inv_d_max, float(options_.max_distance)},
+                                     {std::uint32_t(options_.num_candidates), inv_d_min, inv_d_max,
+                                      float(options_.max_distance)},
                                      first, first);
     } else {
       filter_.record(seq, guide_, volume_, params, first);
@@ -224,11 +254,11 @@ void DepthEstimator::record_group(gpu::Sequence& seq, int first, bool filter, bo
   }
   if (!finish || fused_winner) return;
   seq.begin_stage("wta");
-  seq.dispatch(wta_kernel_, {volume_.texels(dummy_), distances_.chunks()[0]},
-               WtaPush{std::uint32_t(width_), std::uint32_t(height_),
-                       std::uint32_t(options_.num_candidates), inv_d_min, inv_d_max,
-                       float(options_.max_distance), std::uint32_t(first)},
-               wta_kernel_.groups_for(width_, height_, group));
+  seq.dispatch(
+      wta_kernel_, {volume_.texels(dummy_), distances_.chunks()[0]},
+      WtaPush{std::uint32_t(width_), std::uint32_t(height_), std::uint32_t(options_.num_candidates),
+              inv_d_min, inv_d_max, float(options_.max_distance), std::uint32_t(first)},
+      wta_kernel_.groups_for(width_, height_, group));
   seq.barrier();
 }
 
@@ -246,11 +276,23 @@ void DepthEstimator::record_post_filter(gpu::Sequence& seq) {
 
 void DepthEstimator::record(gpu::Sequence& seq) {
   seq.begin_stage("filter");
-  record_guides(seq);  // independent of the sweep: the sweep's barrier covers both
+  record_guides(seq);   // independent of the sweep: the sweep's barrier covers both
+  if (robust_cost()) {  // the sweep's input
+    record_features(seq);
+    seq.barrier();
+  }
   for (int first = 0; first < int(slots()); first += group_size())
     record_group(seq, first, true, true);
   if (options_.post_filter) record_post_filter(seq);
   seq.end_stage();
+}
+
+std::vector<std::uint32_t> DepthEstimator::matching_features(int camera) const {
+  if (!robust_cost()) throw std::logic_error("the paper's cost computes no matching features");
+  if (camera < 0 || camera >= rig_.num_cameras()) throw std::out_of_range("no such camera");
+  std::vector<std::uint32_t> out(std::size_t(width_) * height_);
+  features_.download(out.data(), out.size() * 4, std::size_t(camera) * out.size() * 4);
+  return out;
 }
 
 const gpu::Buffer& DepthEstimator::distance_buffer() const { return distances_.chunks()[0]; }
@@ -286,6 +328,10 @@ std::vector<float> DepthEstimator::cost_volume(const std::vector<const Rgb8Image
   const int first = slot / group_size() * group_size();
   sequence_.begin();
   if (filtered) record_guides(sequence_);
+  if (robust_cost()) {
+    record_features(sequence_);
+    sequence_.barrier();
+  }
   record_group(sequence_, first, filtered, false);
   sequence_.submit_and_wait();
   return volume_.download(options_.num_candidates, slot - first);

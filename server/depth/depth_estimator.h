@@ -52,6 +52,9 @@ class DepthEstimator {
   Image<std::int32_t> selection(int slot) const;
   std::vector<float> cost_volume(const std::vector<const Rgb8Image*>& images, int slot,
                                  bool filtered);
+  // With a robust cost: camera `camera`'s matching features, as the last cost_volume() or
+  // estimate() computed them (width x height, packed as matching_features_cpu packs them).
+  std::vector<std::uint32_t> matching_features(int camera) const;
 
   const DepthOptions& options() const { return options_; }
   const VolumeLayout& volume_layout() const { return volume_.layout(); }
@@ -65,7 +68,10 @@ class DepthEstimator {
   // Sweep and filter of the group of references from slot `first` (group_size() of them, fewer
   // at the end); `finish` ends in the distance maps, otherwise the volume is left behind.
   void record_group(gpu::Sequence& seq, int first, bool filter, bool finish);
-  void record_guides(gpu::Sequence& seq);  // no barrier: the caller puts one before a use
+  void record_guides(gpu::Sequence& seq);    // no barrier: the caller puts one before a use
+  void record_features(gpu::Sequence& seq);  // the same
+  // Whether the sweep compares matching features rather than the images themselves.
+  bool robust_cost() const { return options_.cost != MatchingCost::kAbsoluteDifference; }
   // After the filters of every group (the guides as they left them).
   void record_post_filter(gpu::Sequence& seq);
   // Whether a full frame's filter ends in winner-takes-all (a last upsample to fuse it into),
@@ -82,12 +88,14 @@ class DepthEstimator {
   VolumeLayout layout_;
   gpu::Kernel selection_kernel_;
   gpu::Kernel guide_kernel_;
+  gpu::Kernel features_kernel_;
   gpu::Kernel sweep_kernel_;
   gpu::Kernel wta_kernel_;
   CostVolume volume_;      // the full-resolution cost volumes of one group of references
   IsbFilter filter_;       // their pyramid
   IsbFilter post_filter_;  // one channel, every reference, for the distance maps
   gpu::Buffer images_;     // RGBA8 per camera
+  gpu::Buffer features_;   // RGBA8 per camera: matching features (robust costs only)
   gpu::Buffer guide_;      // per reference slot
   gpu::Buffer dummy_;
   gpu::Buffer cameras_;     // per reference slot, every camera (reproject::pack_cameras)

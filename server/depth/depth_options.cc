@@ -7,6 +7,18 @@
 
 namespace omnisweep::depth {
 
+std::string_view name_of(MatchingCost cost) {
+  for (const auto& entry : kMatchingCostNames)
+    if (entry.cost == cost) return entry.name;
+  return "?";
+}
+
+std::optional<MatchingCost> matching_cost_named(std::string_view name) {
+  for (const auto& entry : kMatchingCostNames)
+    if (entry.name == name) return entry.cost;
+  return std::nullopt;
+}
+
 void DepthOptions::check(int num_cameras) const {
   auto fail = [](const std::string& what) { throw std::invalid_argument(what); };
   if (references.empty()) fail("references: at least one reference camera is needed");
@@ -34,6 +46,15 @@ void DepthOptions::check(int num_cameras) const {
     fail("max-dist: must be finite and larger than min-dist");
   if (!(sigma_i > 0) || !std::isfinite(sigma_i)) fail("sigma-i: must be positive");
   if (!(sigma_s > 0) || !std::isfinite(sigma_s)) fail("sigma-s: must be positive");
+  if (!matching_cost_named(name_of(cost))) fail("cost: not a matching cost");
+  if (feature_radius < 1 || feature_radius > 16)
+    fail("feature-radius: " + std::to_string(feature_radius) + " must be within [1, 16]");
+  if (!(feature_epsilon > 0) || !std::isfinite(feature_epsilon))
+    fail("feature-epsilon: " + std::to_string(feature_epsilon) + " must be positive");
+  if (census_radius < 1 || census_radius > 16)
+    fail("census-radius: " + std::to_string(census_radius) + " must be within [1, 16]");
+  if (!(census_scale >= 0) || !std::isfinite(census_scale))
+    fail("census-scale: " + std::to_string(census_scale) + " must be 0 or more");
   if (matching_width < 8 || matching_height < 8 || matching_width > 8192 ||
       matching_height > 8192) {
     fail("matching-resolution: " + std::to_string(matching_width) + "x" +

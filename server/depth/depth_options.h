@@ -2,13 +2,31 @@
 // defaults. check() throws std::invalid_argument naming the option that is wrong.
 #pragma once
 
+#include <algorithm>
 #include <cstddef>
+#include <optional>
+#include <string_view>
 #include <vector>
 
 namespace omnisweep::depth {
 
 // Reference cameras one frame can have (the kernels take their cameras as push constants).
 inline constexpr std::size_t kMaxReferences = 8;
+
+// The matching cost of the sweep (ALGORITHM.md §3 step 3 is kAbsoluteDifference). The others
+// compare matching features (shaders/matching_features.comp) that a camera's gain, colour cast
+// and a smooth vignetting leave unchanged: colours normalised by the mean and deviation of their
+// window, and an 8-bit census of the luminance. docs/accuracy.md has what each does.
+enum class MatchingCost { kAbsoluteDifference, kNormalised, kCensus, kNormalisedCensus };
+inline constexpr struct {
+  MatchingCost cost;
+  std::string_view name;
+} kMatchingCostNames[] = {{MatchingCost::kAbsoluteDifference, "ad"},
+                          {MatchingCost::kNormalised, "nad"},
+                          {MatchingCost::kCensus, "census"},
+                          {MatchingCost::kNormalisedCensus, "nad-census"}};
+std::string_view name_of(MatchingCost cost);
+std::optional<MatchingCost> matching_cost_named(std::string_view name);
 
 struct DepthOptions {
   std::vector<int> references = {2, 3};  // cameras that get a distance map
@@ -29,8 +47,18 @@ struct DepthOptions {
   // divide the references evenly, and also shrink by themselves where the device's buffer
   // limits need it.
   int max_group = 0;
+  MatchingCost cost = MatchingCost::kAbsoluteDifference;
+  // The features of the other costs, at 1024 px (scaled with the matching width).
+  int feature_radius = 3;        // normalisation window: (2 r + 1)^2 pixels
+  double feature_epsilon = 4.0;  // added to the window's deviation, 8-bit levels
+  int census_radius = 2;         // distance of the census' eight neighbours, pixels
+  double census_scale = 24.0;    // cost of one differing census bit
 
   void check(int num_cameras) const;
+  // A radius given for 1024 px at the matching width (at least 1 pixel).
+  int scaled_radius(int radius) const {
+    return std::max(1, int(radius * matching_width / 1024.0 + 0.5));
+  }
   // sigma_s at the matching resolution (ALGORITHM.md §3 step 4).
   double scaled_sigma_s() const { return sigma_s * matching_width / 1024.0; }
   // 1 / d of fractional candidate index k (k = 0: d_min, k = N - 1: d_max).

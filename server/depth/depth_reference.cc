@@ -1,6 +1,7 @@
 #include "server/depth/depth_reference.h"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 
 namespace omnisweep::depth {
@@ -125,6 +126,96 @@ std::vector<float> sweep_cost_cpu(const Rig& rig, int reference, int selected,
     costs[i] = std::min(std::abs(rgb[0] - ref_rgb[0]) + std::abs(rgb[1] - ref_rgb[1]) +
                             std::abs(rgb[2] - ref_rgb[2]),
                         500.0f);
+  }
+  return costs;
+}
+
+std::vector<std::uint32_t> matching_features_cpu(const Rgb8Image& rgb, int radius,
+                                                 int census_radius, double epsilon) {
+  const int w = rgb.width(), h = rgb.height();
+  auto at = [&](int x, int y) {  // clamped to the image, as the shader
+    return rgb_at(rgb, std::clamp(x, 0, w - 1), std::clamp(y, 0, h - 1));
+  };
+  auto luma = [](const std::array<float, 3>& v) {
+    return 0.299f * v[0] + 0.587f * v[1] + 0.114f * v[2];
+  };
+  std::vector<std::uint32_t> out(std::size_t(w) * h);
+  for (int y = 0; y < h; ++y) {
+    for (int x = 0; x < w; ++x) {
+      std::array<double, 3> sum{}, sum2{};
+      for (int dy = -radius; dy <= radius; ++dy) {
+        for (int dx = -radius; dx <= radius; ++dx) {
+          const auto v = at(x + dx, y + dy);
+          for (int k = 0; k < 3; ++k) {
+            sum[k] += v[k];
+            sum2[k] += double(v[k]) * v[k];
+          }
+        }
+      }
+      const double n = double((2 * radius + 1) * (2 * radius + 1));
+      const auto centre = at(x, y);
+      std::uint32_t packed = 0;
+      for (int k = 0; k < 3; ++k) {
+        const double mean = sum[k] / n;
+        const double deviation = std::sqrt(std::max(sum2[k] / n - mean * mean, 0.0));
+        const double v =
+            std::clamp(128.0 + 32.0 * (centre[k] - mean) / (deviation + epsilon), 0.0, 255.0);
+        packed |= std::uint32_t(std::floor(v + 0.5)) << (8 * k);
+      }
+      const float c = luma(centre) + 1.0f;
+      const int r = census_radius;
+      const int offsets[8][2] = {{r, 0},  {r, -r}, {0, -r}, {-r, -r},
+                                 {-r, 0}, {-r, r}, {0, r},  {r, r}};
+      for (int bit = 0; bit < 8; ++bit) {
+        if (luma(at(x + offsets[bit][0], y + offsets[bit][1])) > c) packed |= 1u << (24 + bit);
+      }
+      out[std::size_t(y) * w + x] = packed;
+    }
+  }
+  return out;
+}
+
+std::vector<float> feature_cost_cpu(const Rig& rig, int reference, int selected,
+                                    const std::vector<std::vector<std::uint32_t>>& features,
+                                    const DepthOptions& options, int x, int y) {
+  std::vector<float> costs(options.num_candidates, 0.0f);
+  Eigen::Vector3d ray;
+  if (selected < 0 || !rig.cameras[reference].model.unproject(Eigen::Vector2d(x, y), &ray))
+    return costs;
+  const RigCamera& cam = rig.cameras[selected];
+  const int w = cam.width, h = cam.height;
+  const std::uint32_t ref = features[reference][std::size_t(y) * w + x];
+  auto difference = [&](std::uint32_t f) {
+    const auto a = unpack(f), b = unpack(ref);
+    const float colour = std::abs(a[0] - b[0]) + std::abs(a[1] - b[1]) + std::abs(a[2] - b[2]);
+    const float census = float(std::popcount((f ^ ref) >> 24)) * float(options.census_scale);
+    switch (options.cost) {
+      case MatchingCost::kNormalised:
+        return colour;
+      case MatchingCost::kCensus:
+        return census;
+      default:
+        return colour + census;
+    }
+  };
+  auto tap = [&](int u, int v) {  // outside the image: the largest cost
+    if (u < 0 || v < 0 || u >= w || v >= h) return 500.0f;
+    return difference(features[selected][std::size_t(v) * w + u]);
+  };
+  const Rigid3d cam_from_ref = rig.cam_from_cam(selected, reference);
+  for (int i = 0; i < options.num_candidates; ++i) {
+    const double distance = 1.0 / options.inverse_distance(i);
+    Eigen::Vector2d uv;
+    float cost = 500.0f;
+    if (cam.model.project(cam_from_ref * (ray * distance), &uv) && uv.x() >= -2 && uv.y() >= -2 &&
+        uv.x() <= w + 1 && uv.y() <= h + 1) {
+      const int x0 = int(std::floor(uv.x())), y0 = int(std::floor(uv.y()));
+      const double tx = uv.x() - x0, ty = uv.y() - y0;
+      const double top = (1 - tx) * tap(x0, y0) + tx * tap(x0 + 1, y0);
+      const double bottom = (1 - tx) * tap(x0, y0 + 1) + tx * tap(x0 + 1, y0 + 1);
+      cost = float((1 - ty) * top + ty * bottom);
+    }
+    costs[i] = std::min(cost, 500.0f);
   }
   return costs;
 }

@@ -32,6 +32,18 @@ std::vector<float> sweep_cost_cpu(const Rig& rig, int reference, int selected,
                                   const std::vector<const Rgb8Image*>& images,
                                   const DepthOptions& options, int x, int y);
 
+// The matching features of an image (shaders/matching_features.comp, packed as it packs them):
+// window-normalised colour in the low three bytes, the luminance census in the high byte.
+// `radius` and `census_radius` in pixels of this image.
+std::vector<std::uint32_t> matching_features_cpu(const Rgb8Image& rgb, int radius,
+                                                 int census_radius, double epsilon);
+
+// The N costs of reference pixel (x, y) under options.cost (other than the paper's), on every
+// camera's matching features (width x height each, as matching_features_cpu gives them).
+std::vector<float> feature_cost_cpu(const Rig& rig, int reference, int selected,
+                                    const std::vector<std::vector<std::uint32_t>>& features,
+                                    const DepthOptions& options, int x, int y);
+
 // BT.709 studio-range YCbCr of an RGB image, packed as the shaders' guide (y | cb << 8 | cr << 16).
 std::vector<std::uint32_t> ycbcr_guide_cpu(const Rgb8Image& rgb);
 

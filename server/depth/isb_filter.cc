@@ -32,10 +32,10 @@ gpu::KernelLayout down_layout(VolumeLayout layout) {
 // Bindings: the fine guide and volume are written as storage buffers (0, 2) and read as texel
 // buffers (5, 6) of the same memory; the coarse level is read only.
 gpu::KernelLayout up_layout(VolumeLayout layout, bool winner_take_all) {
-  gpu::KernelLayout k = volume_kernel_layout(
-      {1, BindingSlot::texels(), kMaxChunks, BindingSlot::texels(kMaxChunks), 1,
-       BindingSlot::texels(), BindingSlot::texels(kMaxChunks)},
-      sizeof(UpPush), layout);
+  gpu::KernelLayout k =
+      volume_kernel_layout({1, BindingSlot::texels(), kMaxChunks, BindingSlot::texels(kMaxChunks),
+                            1, BindingSlot::texels(), BindingSlot::texels(kMaxChunks)},
+                           sizeof(UpPush), layout);
   k.constants.push_back(gpu::SpecConstant::of(2, std::uint32_t(winner_take_all)));
   return k;
 }
@@ -66,8 +66,8 @@ IsbFilter::IsbFilter(gpu::Context& context, int width, int height, VolumeLayout 
   for (int l = 1; l < isb_levels(width, height); ++l) {
     const auto [w, h] = sizes_.back();
     sizes_.emplace_back((w + 1) / 2, (h + 1) / 2);
-    guides_.emplace_back(context, std::uint64_t(sizes_.back().first) * sizes_.back().second * 4 *
-                                      layout.slots);
+    guides_.emplace_back(
+        context, std::uint64_t(sizes_.back().first) * sizes_.back().second * 4 * layout.slots);
     volumes_.emplace_back(context, sizes_.back().first, sizes_.back().second, layout);
   }
 }
@@ -84,10 +84,9 @@ void IsbFilter::record(gpu::Sequence& seq, gpu::Buffer& guide, CostVolume& volum
   record(seq, guide, volume, params, nullptr, {}, guide_first, 0);
 }
 
-void IsbFilter::record_winner_take_all(gpu::Sequence& seq, gpu::Buffer& guide,
-                                       CostVolume& volume, const IsbParams& params,
-                                       gpu::Buffer& distance, const WtaParams& wta,
-                                       int guide_first, int distance_first) {
+void IsbFilter::record_winner_take_all(gpu::Sequence& seq, gpu::Buffer& guide, CostVolume& volume,
+                                       const IsbParams& params, gpu::Buffer& distance,
+                                       const WtaParams& wta, int guide_first, int distance_first) {
   if (levels() < 2) throw std::invalid_argument("ISB filter: a fused winner needs 2 levels");
   record(seq, guide, volume, params, &distance, wta, guide_first, distance_first);
 }
@@ -106,13 +105,13 @@ void IsbFilter::record(gpu::Sequence& seq, gpu::Buffer& guide, CostVolume& volum
   for (int l = 0; l + 1 < levels(); ++l) {  // down: level l -> l + 1
     const auto [fw, fh] = sizes_[l];
     const auto [cw, ch] = sizes_[l + 1];
-    seq.dispatch(down_,
-                 {guide_texels(guide_at(l)), guide_at(l + 1), volume_at(l).texels(dummy_),
-                  volume_at(l + 1).binding(dummy_)},
-                 DownPush{std::uint32_t(fw), std::uint32_t(fh), std::uint32_t(cw),
-                          std::uint32_t(ch), inv_two_sigma_sq,
-                          std::uint32_t(l == 0 ? guide_first : 0)},
-                 down_.groups_for(cw, ch, slots));
+    seq.dispatch(
+        down_,
+        {guide_texels(guide_at(l)), guide_at(l + 1), volume_at(l).texels(dummy_),
+         volume_at(l + 1).binding(dummy_)},
+        DownPush{std::uint32_t(fw), std::uint32_t(fh), std::uint32_t(cw), std::uint32_t(ch),
+                 inv_two_sigma_sq, std::uint32_t(l == 0 ? guide_first : 0)},
+        down_.groups_for(cw, ch, slots));
     seq.barrier();
   }
   for (int l = levels() - 2; l >= 0; --l) {  // up: level l + 1 -> l

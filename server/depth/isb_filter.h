@@ -43,8 +43,8 @@ class IsbFilter {
   // filtered costs, so `volume` is left holding intermediate values and `guide` is not updated by
   // that pass. Needs at least 2 levels.
   void record_winner_take_all(gpu::Sequence& seq, gpu::Buffer& guide, CostVolume& volume,
-                              const IsbParams& params, gpu::Buffer& distance,
-                              const WtaParams& wta, int guide_first = 0, int distance_first = 0);
+                              const IsbParams& params, gpu::Buffer& distance, const WtaParams& wta,
+                              int guide_first = 0, int distance_first = 0);
 
   int levels() const { return int(sizes_.size()); }
   std::uint64_t bytes() const;

@@ -33,6 +33,7 @@
 #include "server/tools/bench_reproject.h"
 #include "server/tools/bench_security.h"
 #include "server/tools/bench_stats.h"
+#include "server/tools/depth_flags.h"
 
 namespace {
 
@@ -309,6 +310,8 @@ int run(int argc, char** argv) {
       ->check(CLI::Range(16, 4096));
   app.add_option("--kaist", kaist_dir,
                  "kaist-rig dataset for the codec comparison (default ../shared/data/kaist-rig)");
+  depth::DepthOptions model_options;
+  tools::add_matching_cost_flags(app, model_options);
   CLI11_PARSE(app, argc, argv);
 
   gpu::Context context(tools::context_options(device));
@@ -322,7 +325,7 @@ int run(int argc, char** argv) {
   const auto want = [&](const char* section) {
     return std::find(sections.begin(), sections.end(), section) != sections.end();
   };
-  if (want("model")) tools::model_section(context, model_resolution, json);
+  if (want("model")) tools::model_section(context, model_options, model_resolution, json);
   if (want("stages")) stage_section(context, resolutions, iterations, json);
   if (want("filters")) filter_section(context, filter_resolution, iterations, skip_fbs, json);
   if (want("codecs")) tools::codec_section(context, kaist_dir, json);

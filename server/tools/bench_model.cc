@@ -35,17 +35,18 @@ struct DeviceProfile {
 };
 
 constexpr DeviceProfile kProfiles[] = {
-    {"Jetson AGX Xavier", 137.0, 1.4}, {"Jetson AGX Orin 64GB", 204.8, 5.3},
-    {"RTX 4090", 1008.0, 82.0},        {"H100 SXM", 3350.0, 67.0},
+    {"Jetson AGX Xavier", 137.0, 1.4},
+    {"Jetson AGX Orin 64GB", 204.8, 5.3},
+    {"RTX 4090", 1008.0, 82.0},
+    {"H100 SXM", 3350.0, 67.0},
     {"H200", 4800.0, 67.0},
 };
 
 double predicted_ms(const gpu::CommandTotals& t, const DeviceProfile& device) {
   const double memory_s = double(t.bound_bytes + t.upload_bytes + t.download_bytes) /
                           (kBandwidthEfficiency * device.bandwidth_gb_s * 1e9);
-  const double overhead_us =
-      kDispatchUs * double(t.dispatches) + kBarrierUs * double(t.barriers) +
-      kRoundTripUs * double(t.round_trips);
+  const double overhead_us = kDispatchUs * double(t.dispatches) + kBarrierUs * double(t.barriers) +
+                             kRoundTripUs * double(t.round_trips);
   return memory_s * 1e3 + overhead_us * 1e-3;
 }
 
@@ -56,8 +57,8 @@ void print_log(const gpu::CommandLog& log, const char* kind, const std::string& 
   stages.push_back("");  // the frame
   if (!json) {
     std::printf("\n%s (%s)\n", title.c_str(), frame_name.c_str());
-    std::printf("%-14s %10s %9s %11s %12s %12s", "stage", "dispatches", "barriers",
-                "round trips", "bound MB", "host MB");
+    std::printf("%-14s %10s %9s %11s %12s %12s", "stage", "dispatches", "barriers", "round trips",
+                "bound MB", "host MB");
     for (const auto& d : kProfiles) std::printf(" %12.12s", d.name);
     std::printf("   (predicted ms)\n");
   }
@@ -119,8 +120,7 @@ void vr_frame(gpu::Context& context, bool json) {
 
 }  // namespace
 
-void model_section(gpu::Context& context, int resolution, bool json) {
-  depth::DepthOptions options;
+void model_section(gpu::Context& context, depth::DepthOptions options, int resolution, bool json) {
   stitch::StitchOptions stitch_options;
   if (resolution > 0) {
     options.matching_width = options.matching_height = resolution;
@@ -159,9 +159,10 @@ void model_section(gpu::Context& context, int resolution, bool json) {
                                  std::to_string(stitch_options.panorama_width) + "x" +
                                  std::to_string(stitch_options.panorama_height) + " panorama";
   if (!json) {
-    std::printf("\nassumed: bound bytes once at %.0f %% of peak bandwidth; %.0f us per dispatch, "
-                "%.0f us per barrier, %.0f us per host round trip; arithmetic not modelled\n",
-                100 * kBandwidthEfficiency, kDispatchUs, kBarrierUs, kRoundTripUs);
+    std::printf(
+        "\nassumed: bound bytes once at %.0f %% of peak bandwidth; %.0f us per dispatch, "
+        "%.0f us per barrier, %.0f us per host round trip; arithmetic not modelled\n",
+        100 * kBandwidthEfficiency, kDispatchUs, kBarrierUs, kRoundTripUs);
   }
   print_log(log, "model", "Frame cost model: a frame as the estimator and stitcher record it",
             frame_name, json);

@@ -11,6 +11,32 @@
 
 namespace omnisweep::tools {
 
+// --cost and the parameters of its features.
+inline void add_matching_cost_flags(CLI::App& app, depth::DepthOptions& options) {
+  std::string names;
+  for (const auto& entry : depth::kMatchingCostNames)
+    names += (names.empty() ? "" : ", ") + std::string(entry.name);
+  app.add_option_function<std::string>(
+      "--cost",
+      [&options](const std::string& name) {
+        const auto cost = depth::matching_cost_named(name);
+        if (!cost) throw CLI::ValidationError("--cost", "unknown matching cost '" + name + "'");
+        options.cost = *cost;
+      },
+      "Matching cost: " + names + " (default ad, the paper's; docs/accuracy.md)");
+  app.add_option("--feature-radius", options.feature_radius,
+                 "Normalisation window radius of nad, pixels at 1024 px")
+      ->check(CLI::Range(1, 16));
+  app.add_option("--feature-epsilon", options.feature_epsilon,
+                 "Added to the window's deviation by nad, 8-bit levels")
+      ->check(CLI::PositiveNumber);
+  app.add_option("--census-radius", options.census_radius,
+                 "Distance of the census neighbours, pixels at 1024 px")
+      ->check(CLI::Range(1, 16));
+  app.add_option("--census-scale", options.census_scale, "Cost of one differing census bit")
+      ->check(CLI::NonNegativeNumber);
+}
+
 // --references, --candidates, --min-dist, --max-dist, --sigma-i, --sigma-s,
 // --matching-resolution W H, --float32-costs, --max-group (written into the options) and
 // --vk-device (into `device`).
@@ -43,6 +69,7 @@ inline void add_depth_flags(CLI::App& app, depth::DepthOptions& options, std::st
                  "At most this many references per dispatch, each with its cost volume in "
                  "memory (default 0: all)")
       ->check(CLI::Range(0, 8));
+  add_matching_cost_flags(app, options);
   app.add_option(
       "--vk-device", device,
       "Vulkan device: index or name substring (default: OMNISWEEP_VK_DEVICE, else the best)");
