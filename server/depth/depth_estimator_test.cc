@@ -127,30 +127,6 @@ TEST_F(DepthEstimatorTest, WinnerTakesAllEqualsCpu) {
   EXPECT_LT(worst, 1e-4);
 }
 
-struct Accuracy {
-  double mae = 0, bad_0_1 = 0, bad_0_4 = 0;
-  long pixels = 0;
-};
-
-Accuracy inverse_distance_accuracy(const FloatImage& distance, const FloatImage& inverse_gt,
-                                   const Gray8Image& usable) {
-  Accuracy a;
-  for (int y = 0; y < distance.height(); ++y) {
-    for (int x = 0; x < distance.width(); ++x) {
-      if (!usable(x, y) || inverse_gt(x, y) <= 0) continue;
-      const double e = std::abs(1.0 / distance(x, y) - inverse_gt(x, y));
-      a.mae += e;
-      a.bad_0_1 += e > 0.1;
-      a.bad_0_4 += e > 0.4;
-      ++a.pixels;
-    }
-  }
-  a.mae /= a.pixels;
-  a.bad_0_1 /= a.pixels;
-  a.bad_0_4 /= a.pixels;
-  return a;
-}
-
 // Measured on lavapipe, 512 px matching, defaults otherwise (frames 0 and 120, references 2, 3):
 // MAE 0.018-0.043 m^-1, > 0.1: 0.35-9.3 %, > 0.4: 0-1.6 % of the pixels inside the lenses.
 // Frame 0 is the harder one: the near sphere at 0.7 m and plain ceiling above it.
@@ -164,8 +140,8 @@ TEST_F(DepthEstimatorTest, FisheyeDistanceMatchesGroundTruth) {
     ASSERT_EQ(result.distance.size(), 2u);
     for (std::size_t slot = 0; slot < 2; ++slot) {
       const int ref = options.references[slot];
-      const Accuracy a = inverse_distance_accuracy(result.distance[slot], scene.inverse_gt[ref],
-                                                   *scene.usable[ref]);
+      const fixtures::Accuracy a = fixtures::inverse_distance_accuracy(
+          result.distance[slot], scene.inverse_gt[ref], *scene.usable[ref]);
       std::cout << "frame " << frame << " reference " << ref << ": MAE " << a.mae
                 << " m^-1, >0.1: " << 100 * a.bad_0_1 << " %, >0.4: " << 100 * a.bad_0_4
                 << " % over " << a.pixels << " pixels\n";
@@ -197,10 +173,10 @@ TEST_F(DepthEstimatorTest, HalfCostsKeepTheAccuracy) {
     if (!half_used) GTEST_SKIP() << "the device stores no 16-bit floats";
     for (std::size_t slot = 0; slot < 2; ++slot) {
       const int ref = DepthOptions().references[slot];
-      const Accuracy full = inverse_distance_accuracy(results[0].distance[slot],
-                                                      scene.inverse_gt[ref], *scene.usable[ref]);
-      const Accuracy half = inverse_distance_accuracy(results[1].distance[slot],
-                                                      scene.inverse_gt[ref], *scene.usable[ref]);
+      const fixtures::Accuracy full = fixtures::inverse_distance_accuracy(
+          results[0].distance[slot], scene.inverse_gt[ref], *scene.usable[ref]);
+      const fixtures::Accuracy half = fixtures::inverse_distance_accuracy(
+          results[1].distance[slot], scene.inverse_gt[ref], *scene.usable[ref]);
       long apart = 0, pixels = 0;
       for (std::size_t p = 0; p < results[0].distance[slot].size(); ++p) {
         const float a = results[0].distance[slot].data()[p],

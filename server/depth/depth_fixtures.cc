@@ -12,10 +12,12 @@ std::vector<const Rgb8Image*> SyntheticDepthCase::image_pointers() const {
   return out;
 }
 
-SyntheticDepthCase render_depth_case(int size, int frame, std::uint64_t seed) {
+SyntheticDepthCase render_depth_case(int size, int frame, std::uint64_t seed,
+                                     const synthetic::PhotometricOptions& photometric) {
   synthetic::SyntheticRigOptions options;
   options.image_size = size;
   options.seed = seed;
+  options.photometric = photometric;
   SyntheticDepthCase out{synthetic::SyntheticRig(options), {}, {}, {}};
   const synthetic::SyntheticFrame rendered = out.rig.render(frame, 64, 32);
   for (auto& cam : const_cast<synthetic::SyntheticFrame&>(rendered).cameras) {
@@ -24,6 +26,25 @@ SyntheticDepthCase render_depth_case(int size, int frame, std::uint64_t seed) {
   }
   for (auto& mask : out.rig.masks()) out.usable.emplace_back(std::move(mask));
   return out;
+}
+
+Accuracy inverse_distance_accuracy(const FloatImage& distance, const FloatImage& inverse_gt,
+                                   const Gray8Image& usable) {
+  Accuracy a;
+  for (int y = 0; y < distance.height(); ++y) {
+    for (int x = 0; x < distance.width(); ++x) {
+      if (!usable(x, y) || inverse_gt(x, y) <= 0) continue;
+      const double e = std::abs(1.0 / distance(x, y) - inverse_gt(x, y));
+      a.mae += e;
+      a.bad_0_1 += e > 0.1;
+      a.bad_0_4 += e > 0.4;
+      ++a.pixels;
+    }
+  }
+  a.mae /= a.pixels;
+  a.bad_0_1 /= a.pixels;
+  a.bad_0_4 /= a.pixels;
+  return a;
 }
 
 std::vector<float> isb_filter_gpu(gpu::Context& context, const std::vector<std::uint32_t>& guide,

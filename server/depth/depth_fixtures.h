@@ -20,7 +20,18 @@ struct SyntheticDepthCase {
   std::vector<const Rgb8Image*> image_pointers() const;
 };
 
-SyntheticDepthCase render_depth_case(int size, int frame = 0, std::uint64_t seed = 1);
+// `photometric`: the cameras' gains, casts and vignetting (none by default).
+SyntheticDepthCase render_depth_case(int size, int frame = 0, std::uint64_t seed = 1,
+                                     const synthetic::PhotometricOptions& photometric = {});
+
+// Inverse-distance errors of a fisheye distance map (metres) against its ground truth (m^-1),
+// over the usable pixels that have one.
+struct Accuracy {
+  double mae = 0, bad_0_1 = 0, bad_0_4 = 0;
+  long pixels = 0;
+};
+Accuracy inverse_distance_accuracy(const FloatImage& distance, const FloatImage& inverse_gt,
+                                   const Gray8Image& usable);
 
 // Filters `values` (width x height x channels) guided by `guide` on the GPU.
 std::vector<float> isb_filter_gpu(gpu::Context& context, const std::vector<std::uint32_t>& guide,

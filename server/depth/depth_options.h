@@ -48,6 +48,9 @@ struct DepthOptions {
   // limits need it.
   int max_group = 0;
   MatchingCost cost = MatchingCost::kAbsoluteDifference;
+  // Estimate each camera's gain, colour cast and vignetting from the overlaps and undo them before
+  // matching and stitching (photometric_model.h).
+  bool correct_photometry = false;
   // The features of the other costs, at 1024 px (scaled with the matching width).
   int feature_radius = 3;        // normalisation window: (2 r + 1)^2 pixels
   double feature_epsilon = 4.0;  // added to the window's deviation, 8-bit levels

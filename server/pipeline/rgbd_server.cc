@@ -9,6 +9,7 @@
 #include "omnisweep/wire/wire.h"
 #include "server/depth/depth_estimator.h"
 #include "server/depth/depth_inputs.h"
+#include "server/depth/photometric_model.h"
 #include "server/pipeline/bounded_queue.h"
 #include "server/pipeline/gpu_frame.h"
 
@@ -55,7 +56,8 @@ struct RgbdServer::Stages {
   std::vector<std::optional<Gray8Image>> masks;
   depth::DepthEstimator estimator;
   stitch::Stitcher stitcher;
-  GpuFrame gpu_frame;  // the two, one submission per frame
+  GpuFrame gpu_frame;                                     // the two, one submission per frame
+  std::optional<depth::PhotometricCorrector> photometry;  // DepthOptions::correct_photometry
   std::unique_ptr<codec::DistanceCodec> distance_codec;
   FrameBudget budget;  // the colour codec, at the quality the frame budget allows
   msg::StreamDescription description;
@@ -76,7 +78,10 @@ struct RgbdServer::Stages {
                                        .max_distance = o.depth.max_distance}),
         gpu_frame(context, estimator, stitcher),
         distance_codec(codec::make_distance_codec("qinv16-zstd")),
-        budget(o.jpeg_quality, o.max_frame_bytes) {}
+        budget(o.jpeg_quality, o.max_frame_bytes) {
+    if (o.depth.correct_photometry)
+      photometry.emplace(matching_rig, masks, colour_rig, o.depth.references);
+  }
 };
 
 RgbdServer::RgbdServer(std::unique_ptr<capture::FrameSource> source, gpu::Context& context,
@@ -243,9 +248,10 @@ void RgbdServer::gpu_loop() {
     Job& job = **item;
     const auto start = Clock::now();
     job.processing_start_ns = wall_clock_ns();
-    const auto images = depth::matching_images(job.images, options_.depth);
-    const std::vector<Rgb8Image> colour =
+    std::vector<Rgb8Image> images = depth::matching_images(job.images, options_.depth);
+    std::vector<Rgb8Image> colour =
         depth::reference_colour_images(job.images, stages_->colour_rig, options_.depth.references);
+    if (stages_->photometry) stages_->photometry->correct(images, colour);
     job.panorama = stages_->gpu_frame.run(depth::pointers(images), depth::pointers(colour));
     job.images.clear();
     double stitch_ms = 0;

@@ -24,6 +24,9 @@ inline void add_matching_cost_flags(CLI::App& app, depth::DepthOptions& options)
         options.cost = *cost;
       },
       "Matching cost: " + names + " (default ad, the paper's; docs/accuracy.md)");
+  app.add_flag("--correct-photometry", options.correct_photometry,
+               "Estimate each camera's gain, colour cast and vignetting from what the cameras see "
+               "in common, and undo them before matching and stitching");
   app.add_option("--feature-radius", options.feature_radius,
                  "Normalisation window radius of nad, pixels at 1024 px")
       ->check(CLI::Range(1, 16));

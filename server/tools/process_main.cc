@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <map>
+#include <numbers>
 #include <string>
 #include <vector>
 
@@ -15,6 +16,7 @@
 #include "omnisweep/image/image_io.h"
 #include "server/depth/depth_estimator.h"
 #include "server/depth/depth_inputs.h"
+#include "server/depth/photometric_model.h"
 #include "server/pipeline/gpu_frame.h"
 #include "server/stitch/panorama_metrics.h"
 #include "server/stitch/stitcher.h"
@@ -94,6 +96,9 @@ int run(int argc, char** argv) {
   stitch::Stitcher stitcher(context, matching_rig, colour_rig, options.references, masks,
                             stitch_options);
   pipeline::GpuFrame gpu_frame(context, estimator, stitcher);
+  std::optional<depth::PhotometricCorrector> photometry;
+  if (options.correct_photometry)
+    photometry.emplace(matching_rig, masks, colour_rig, options.references);
   fs::create_directories(output_dir);
   if (!json) {
     std::fprintf(stderr, "device: %s; GPU memory: depth %.1f MiB, stitching %.1f MiB\n",
@@ -113,9 +118,10 @@ int run(int argc, char** argv) {
                        frame.name.c_str());
         const auto start = Clock::now();
         std::vector<Rgb8Image> full = depth::rgb8_images(frame);
-        const auto images = depth::matching_images(full, options);
-        const std::vector<Rgb8Image> colour =
+        std::vector<Rgb8Image> images = depth::matching_images(full, options);
+        std::vector<Rgb8Image> colour =
             depth::reference_colour_images(full, colour_rig, options.references);
+        if (photometry) photometry->correct(images, colour);
         // One submission from the images to the panorama: depth stays on the GPU.
         const stitch::Panorama pano =
             gpu_frame.run(depth::pointers(images), depth::pointers(colour));
@@ -157,6 +163,17 @@ int run(int argc, char** argv) {
                 "%.4f, \"ssim\": %.6f",
                 metrics->mae, metrics->rmse, metrics->bad_0_1, metrics->bad_0_4, metrics->psnr,
                 metrics->ssim);
+          }
+          if (photometry) {
+            // Each camera's estimated gains and the brightness its vignetting leaves at 110 deg.
+            std::printf(", \"photometry\": [");
+            const auto& cameras = photometry->last().cameras;
+            for (std::size_t c = 0; c < cameras.size(); ++c) {
+              std::printf("%s{\"gain\": [%.4f, %.4f, %.4f], \"vignetting_110\": %.4f}",
+                          c ? ", " : "", cameras[c].gain[0], cameras[c].gain[1], cameras[c].gain[2],
+                          cameras[c].vignetting(110.0 * std::numbers::pi / 180.0));
+            }
+            std::printf("]");
           }
           std::printf(", \"ms\": %.2f, \"stages\": {", ms);
           for (std::size_t i = 0; i < stages.size(); ++i) {

@@ -1,0 +1,89 @@
+// Each camera's photometric response, estimated from what the cameras see in common, and undone:
+// a gain per channel (exposure, white balance) and a radial vignetting,
+//   value = gain[k] * V(theta) * radiance,  V(theta) = 1 + b1 t^2 + b2 t^4,  t = theta / 110 deg,
+// theta the angle of the pixel's ray from the optical axis. The gains are fixed up to one common
+// factor per channel: their geometric mean over the cameras is 1.
+//
+// Estimation (estimate_photometry): the images are reduced to the mean colour of cells of about
+// 1/128 of their width (usable pixels only); directions spread evenly over the sphere are taken to
+// a point at `distance` from the rig's centre and projected into every camera that sees it; each
+// pair of cameras gives the log ratio of their cell colours, and a robust (Huber) Gauss-Newton fit
+// of the 5 parameters per camera explains them. A low-order model over tens of thousands of pairs
+// cannot take up texture, parallax (the point's true distance is unknown) or occlusion, which
+// stay in the residuals. Written by hand: it is a 20-parameter least-squares problem that Eigen
+// solves in a few lines, with no library here that fits it.
+#pragma once
+
+#include <array>
+#include <optional>
+#include <vector>
+
+#include "omnisweep/image/image.h"
+#include "omnisweep/rig/rig.h"
+
+namespace omnisweep::depth {
+
+struct CameraPhotometry {
+  std::array<double, 3> gain = {1.0, 1.0, 1.0};
+  double b1 = 0.0;
+  double b2 = 0.0;
+  // V at `theta` radians off the optical axis (at least 0.05).
+  double vignetting(double theta) const;
+};
+
+struct PhotometryFit {
+  std::vector<CameraPhotometry> cameras;
+  int pairs = 0;            // camera pairs (times channels) the fit used
+  double rms_residual = 0;  // of the log ratios it explains, over the inliers
+};
+
+struct PhotometryOptions {
+  int directions = 20000;  // spread over the sphere
+  double distance = 2.0;   // metres from the rig's centre, where the directions are taken
+  int iterations = 12;     // Gauss-Newton steps
+};
+
+// `images` at their cameras' resolution in `rig`; `usable` as for DepthEstimator (any
+// resolution, nullopt = all usable). Throws std::invalid_argument on mismatched inputs.
+PhotometryFit estimate_photometry(const Rig& rig, const std::vector<const Rgb8Image*>& images,
+                                  const std::vector<std::optional<Gray8Image>>& usable,
+                                  const PhotometryOptions& options = {});
+
+// Undoes the responses of a fit: every pixel divided by its camera's gain and vignetting (and
+// clamped to 255). The per-pixel angles are computed once, for the cameras of `rig`.
+class PhotometricCorrection {
+ public:
+  explicit PhotometricCorrection(const Rig& rig);
+  // images[i] is camera cameras[i] (all cameras in order when `cameras` is empty), at its size
+  // in the rig.
+  void apply(const PhotometryFit& fit, std::vector<Rgb8Image>& images,
+             const std::vector<int>& cameras = {}) const;
+
+ private:
+  std::vector<std::vector<float>> t2_;  // per camera and pixel: (theta / 110 deg)^2, -1 = no ray
+  std::vector<std::pair<int, int>> sizes_;
+};
+
+// Frame after frame (omnisweep-process, omnisweep-server, DepthOptions::correct_photometry):
+// estimates the responses on the matching images and undoes them there and in the colour images
+// of the references, so the sweep and the panorama's colour both see the scene's own colours.
+class PhotometricCorrector {
+ public:
+  // `usable` (at the matching resolution) must outlive this.
+  PhotometricCorrector(const Rig& matching_rig,
+                       const std::vector<std::optional<Gray8Image>>& usable, const Rig& colour_rig,
+                       std::vector<int> references);
+  // `matching`: every camera; `colour`: the references, at the colour rig's sizes.
+  const PhotometryFit& correct(std::vector<Rgb8Image>& matching, std::vector<Rgb8Image>& colour);
+  const PhotometryFit& last() const { return last_; }
+
+ private:
+  Rig matching_rig_;
+  const std::vector<std::optional<Gray8Image>>* usable_;
+  PhotometricCorrection matching_;
+  PhotometricCorrection colour_;
+  std::vector<int> references_;
+  PhotometryFit last_;
+};
+
+}  // namespace omnisweep::depth
