@@ -17,6 +17,7 @@ class DatasetSource final : public FrameSource {
   }
 
   const Rig& rig() const override { return dataset_.rig(); }
+  const DatasetHints* hints() const override { return &dataset_.hints(); }
   std::vector<std::optional<Gray8Image>> masks() const override {
     std::vector<std::optional<Gray8Image>> out;
     for (const auto& mask : dataset_.masks()) {

@@ -18,6 +18,10 @@
 #include "omnisweep/rig/rig.h"
 #include "omnisweep/time/clock.h"
 
+namespace omnisweep {
+struct DatasetHints;  // omnisweep/dataset/dataset.h
+}  // namespace omnisweep
+
 namespace omnisweep::capture {
 
 class SourceError : public std::runtime_error {
@@ -52,11 +56,13 @@ class FrameSource {
   // them and keeps the latest frame. Other sources (synthetic, dataset, video files) wait, so the
   // server reads them only when the depth stage has room for a frame.
   virtual bool live() const { return false; }
+  // A dataset's dataset.json (references, viewpoint, distance range): the server's defaults.
+  virtual const DatasetHints* hints() const { return nullptr; }
 };
 
 struct SourceOptions {
-  std::string calibration;  // basalt JSON; required by video, v4l2 and gst
-  int synthetic_poses = 30;  // distinct synthetic frames, spread over the rig's 300-frame loop
+  std::string calibration;        // basalt JSON; required by video, v4l2 and gst
+  int synthetic_poses = 30;       // distinct synthetic frames, spread over the rig's 300-frame loop
   double camera_timeout_s = 2.0;  // a camera silent this long counts as not delivering
 };
 

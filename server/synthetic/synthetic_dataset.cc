@@ -18,6 +18,10 @@ WriteDatasetStats write_synthetic_dataset(const SyntheticRig& rig, const std::fi
   const DatasetWriter writer(dir, rig.rig());
   const std::vector<Gray8Image> masks = rig.masks();
   for (int c = 0; c < rig.rig().num_cameras(); ++c) writer.write_mask(c, masks[c]);
+  writer.write_hints({.references = rig.options().references,
+                      .viewpoint = rig.viewpoint(),
+                      .min_distance = std::nullopt,
+                      .max_distance = std::nullopt});
   for (int i = 0; i < options.num_frames; ++i) {
     const int index = options.first_frame + i;
     const std::string name = std::to_string(index);

@@ -44,7 +44,8 @@ inline void add_matching_cost_flags(CLI::App& app, depth::DepthOptions& options)
 // --matching-resolution W H, --float32-costs, --max-group (written into the options) and
 // --vk-device (into `device`).
 inline void add_depth_flags(CLI::App& app, depth::DepthOptions& options, std::string& device) {
-  app.add_option("--references", options.references, "Reference cameras (default 2 3, at most 8)")
+  app.add_option("--references", options.references,
+                 "Reference cameras (default: a dataset's dataset.json, else 2 3; at most 8)")
       ->expected(1, 16);
   app.add_option("--candidates", options.num_candidates, "Number of candidate distances")
       ->check(CLI::Range(2, 512));

@@ -61,12 +61,23 @@ int run(int argc, char** argv) {
       ->expected(2)
       ->check(CLI::Range(8, 16384));
   app.add_option("--viewpoint", viewpoint,
-                 "Panorama centre x y z in the rig frame, metres (default: mean of the references)")
+                 "Panorama centre x y z in the rig frame, metres (default: dataset.json's, else "
+                 "the mean of the references)")
       ->expected(3);
   tools::add_depth_flags(app, options, device);
   CLI11_PARSE(app, argc, argv);
 
   const Dataset dataset = Dataset::open(dataset_dir);
+  // dataset.json's references, viewpoint and distance range, where no flag gives them.
+  const DatasetHints& hints = dataset.hints();
+  if (!hints.references.empty() && app.count("--references") == 0)
+    options.references = hints.references;
+  if (hints.min_distance && app.count("--min-dist") == 0)
+    options.min_distance = *hints.min_distance;
+  if (hints.max_distance && app.count("--max-dist") == 0)
+    options.max_distance = *hints.max_distance;
+  if (hints.viewpoint && viewpoint.empty())
+    viewpoint = {hints.viewpoint->x(), hints.viewpoint->y(), hints.viewpoint->z()};
   options.check(dataset.rig().num_cameras());
   if (evaluate && !dataset.has_ground_truth()) {
     throw std::runtime_error((fs::path(dataset_dir) / "gt").string() +

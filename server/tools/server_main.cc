@@ -9,6 +9,7 @@
 #include "client_sdk/tools/cli_checks.h"
 #include "client_sdk/tools/dds_flags.h"
 #include "client_sdk/tools/tool_main.h"
+#include "omnisweep/dataset/dataset.h"
 #include "omnisweep/dds/stream_publisher.h"
 #include "server/capture/frame_source.h"
 #include "server/pipeline/rgbd_server.h"
@@ -107,6 +108,15 @@ int run(int argc, char** argv) {
   pthread_sigmask(SIG_BLOCK, &signals, nullptr);
 
   auto source = capture::open_source(source_spec, source_options);
+  if (const DatasetHints* hints = source->hints()) {  // where no flag gives them
+    if (!hints->references.empty() && app.count("--references") == 0)
+      options.depth.references = hints->references;
+    if (hints->min_distance && app.count("--min-dist") == 0)
+      options.depth.min_distance = *hints->min_distance;
+    if (hints->max_distance && app.count("--max-dist") == 0)
+      options.depth.max_distance = *hints->max_distance;
+    if (hints->viewpoint && !options.viewpoint) options.viewpoint = *hints->viewpoint;
+  }
   std::fprintf(stderr, "omnisweep-server: source: %s\n", source->description().c_str());
   gpu::Context context(tools::context_options(device));
   auto publisher = std::make_unique<dds::StreamPublisher>(dds_options, frame_profile);

@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <array>
+#include <fstream>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <set>
 #include <system_error>
 
@@ -47,6 +49,51 @@ fs::path find_frame_image(const fs::path& dir, const std::string& frame) {
                        " has the same frame name");
   }
   return found[0];
+}
+
+// dataset.json: every field optional, each checked (DatasetError naming the file and field).
+DatasetHints read_hints(const fs::path& path, const Rig& rig) {
+  std::ifstream in(path);
+  nlohmann::json json;
+  try {
+    json = nlohmann::json::parse(in);
+  } catch (const nlohmann::json::exception& e) {
+    throw DatasetError(path.string() + ": not JSON: " + e.what());
+  }
+  if (!json.is_object()) throw DatasetError(path.string() + ": expected a JSON object");
+  auto fail = [&](const std::string& field, const std::string& what) {
+    throw DatasetError(path.string() + ": \"" + field + "\" " + what);
+  };
+  auto number = [&](const std::string& field) -> std::optional<double> {
+    if (!json.contains(field)) return std::nullopt;
+    if (!json[field].is_number() || !(json[field].get<double>() > 0))
+      fail(field, "must be a positive number of metres");
+    return json[field].get<double>();
+  };
+  DatasetHints hints;
+  if (json.contains("references")) {
+    const auto& refs = json["references"];
+    if (!refs.is_array() || refs.empty()) fail("references", "must be a non-empty array");
+    for (const auto& r : refs) {
+      if (!r.is_number_integer() || r.get<int>() < 0 || r.get<int>() >= rig.num_cameras()) {
+        fail("references",
+             "must list cameras 0-" + std::to_string(rig.num_cameras() - 1) + ", has " + r.dump());
+      }
+      hints.references.push_back(r.get<int>());
+    }
+  }
+  if (json.contains("viewpoint")) {
+    const auto& v = json["viewpoint"];
+    if (!v.is_array() || v.size() != 3 || !v[0].is_number() || !v[1].is_number() ||
+        !v[2].is_number())
+      fail("viewpoint", "must be [x, y, z] in metres");
+    hints.viewpoint = Eigen::Vector3d(v[0].get<double>(), v[1].get<double>(), v[2].get<double>());
+  }
+  hints.min_distance = number("min_dist");
+  hints.max_distance = number("max_dist");
+  if (hints.min_distance && hints.max_distance && *hints.max_distance <= *hints.min_distance)
+    fail("max_dist", "must exceed min_dist");
+  return hints;
 }
 
 }  // namespace
@@ -115,6 +162,7 @@ Dataset Dataset::open(const fs::path& dir) {
   }
   ds.frames_.assign(names.begin(), names.end());
   std::sort(ds.frames_.begin(), ds.frames_.end(), natural_less);
+  if (fs::exists(dir / "dataset.json", ec)) ds.hints_ = read_hints(dir / "dataset.json", ds.rig_);
   return ds;
 }
 
@@ -202,6 +250,18 @@ DatasetWriter::DatasetWriter(const fs::path& dir, const Rig& rig) : dir_(dir), r
   for (int c = 0; c < rig.num_cameras() && !ec; ++c) fs::create_directories(camera_dir(dir, c), ec);
   if (ec) throw DatasetError(dir.string() + ": cannot create dataset folder: " + ec.message());
   write_basalt_calibration(rig, dir / "calibration.json");
+}
+
+void DatasetWriter::write_hints(const DatasetHints& hints) const {
+  nlohmann::json json = nlohmann::json::object();
+  if (!hints.references.empty()) json["references"] = hints.references;
+  if (hints.viewpoint)
+    json["viewpoint"] = {hints.viewpoint->x(), hints.viewpoint->y(), hints.viewpoint->z()};
+  if (hints.min_distance) json["min_dist"] = *hints.min_distance;
+  if (hints.max_distance) json["max_dist"] = *hints.max_distance;
+  std::ofstream out(dir_ / "dataset.json");
+  out << json.dump(1) << "\n";
+  if (!out) throw DatasetError((dir_ / "dataset.json").string() + ": cannot write");
 }
 
 void DatasetWriter::write_mask(int camera, const Gray8Image& mask) const {

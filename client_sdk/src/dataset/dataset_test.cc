@@ -120,6 +120,37 @@ TEST(Dataset, BadFolderCalibrationOrMaskIsAnError) {
   EXPECT_THROW(Dataset::open(dir.path()), DatasetError);
 }
 
+TEST(Dataset, DatasetJsonGivesTheHintsAndBadFieldsAreNamed) {
+  ScratchDir dir;
+  DatasetWriter writer(dir.path(), small_rig());
+  EXPECT_TRUE(Dataset::open(dir.path()).hints().references.empty());  // no dataset.json
+  writer.write_hints({.references = {1, 0},
+                      .viewpoint = Eigen::Vector3d(0.1, -0.2, 0.3),
+                      .min_distance = 0.5,
+                      .max_distance = 50.0});
+  const DatasetHints hints = Dataset::open(dir.path()).hints();
+  EXPECT_EQ(hints.references, (std::vector<int>{1, 0}));
+  ASSERT_TRUE(hints.viewpoint.has_value());
+  EXPECT_DOUBLE_EQ(hints.viewpoint->y(), -0.2);
+  EXPECT_EQ(hints.min_distance, 0.5);
+  EXPECT_EQ(hints.max_distance, 50.0);
+  auto error_for = [&](const std::string& text) {
+    std::ofstream(dir.path() / "dataset.json") << text;
+    try {
+      Dataset::open(dir.path());
+    } catch (const DatasetError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_NE(error_for("{\"references\": [0, 9]}").find("\"references\""), std::string::npos);
+  EXPECT_NE(error_for("{\"viewpoint\": [0, 1]}").find("\"viewpoint\""), std::string::npos);
+  EXPECT_NE(error_for("{\"min_dist\": -1}").find("\"min_dist\""), std::string::npos);
+  EXPECT_NE(error_for("{\"min_dist\": 2, \"max_dist\": 1}").find("\"max_dist\""),
+            std::string::npos);
+  EXPECT_NE(error_for("[1,").find("dataset.json: not JSON"), std::string::npos);
+}
+
 TEST(Dataset, KaistRigLoads) {
   const Dataset ds = Dataset::open(testing::kaist_rig_dir());
   EXPECT_EQ(ds.rig().num_cameras(), 4);

@@ -5,9 +5,13 @@
 //   gt/rgb_<frame>.png                optional ground-truth colour panorama
 //   gt/inv_distance_<frame>.exr       optional ground-truth inverse distance panorama (float32)
 //   gt/cam<i>/inv_distance_<frame>.exr  optional per-camera inverse distance (our synthetic rig)
+//   dataset.json                      optional: what the dataset was made for ("references",
+//                                     "viewpoint" [x, y, z] in the rig frame, "min_dist",
+//                                     "max_dist"): the tools' defaults, under their flags
 // Frames are the image stems found in the camera folders, in natural order ("2" before "10").
 #pragma once
 
+#include <Eigen/Core>
 #include <filesystem>
 #include <functional>
 #include <optional>
@@ -42,6 +46,14 @@ struct SkippedFrame {
   std::string reason;  // names the file that was missing, unreadable or wrongly sized
 };
 
+// dataset.json's fields (absent ones empty).
+struct DatasetHints {
+  std::vector<int> references;
+  std::optional<Eigen::Vector3d> viewpoint;
+  std::optional<double> min_distance;
+  std::optional<double> max_distance;
+};
+
 class Dataset {
  public:
   // Reads the calibration and masks and lists the frames. Throws DatasetError (or
@@ -54,6 +66,7 @@ class Dataset {
   const std::vector<std::string>& frames() const { return frames_; }
   // Per camera; nullopt where there is no mask.png.
   const std::vector<std::optional<Gray8Image>>& masks() const { return masks_; }
+  const DatasetHints& hints() const { return hints_; }
   bool has_ground_truth() const;
 
   // Loads one frame; throws DatasetError naming the frame and the file at fault.
@@ -71,6 +84,7 @@ class Dataset {
   Rig rig_;
   std::vector<std::string> frames_;
   std::vector<std::optional<Gray8Image>> masks_;
+  DatasetHints hints_;
 };
 
 // Writes a dataset in the reference layout (the synthetic rig uses it).
@@ -80,6 +94,8 @@ class DatasetWriter {
   DatasetWriter(const std::filesystem::path& dir, const Rig& rig);
 
   void write_mask(int camera, const Gray8Image& mask) const;
+  // Writes dataset.json with the fields `hints` has.
+  void write_hints(const DatasetHints& hints) const;
   // Writes cam<i>/<name>.png for every camera (8-bit RGB images sized as calibrated).
   void write_images(const std::string& name, const std::vector<Rgb8Image>& images) const;
   void write_ground_truth(const std::string& name, const Rgb8Image& rgb,
