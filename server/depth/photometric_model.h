@@ -38,9 +38,9 @@ struct PhotometryFit {
 };
 
 struct PhotometryOptions {
-  int directions = 20000;  // spread over the sphere
+  int directions = 6000;  // spread over the sphere
   double distance = 2.0;   // metres from the rig's centre, where the directions are taken
-  int iterations = 12;     // Gauss-Newton steps
+  int iterations = 6;     // Gauss-Newton steps
 };
 
 // `images` at their cameras' resolution in `rig`; `usable` as for DepthEstimator (any

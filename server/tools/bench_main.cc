@@ -27,6 +27,7 @@
 #include "server/depth/depth_fixtures.h"
 #include "server/depth/depth_inputs.h"
 #include "server/depth/depth_reference.h"
+#include "server/tools/bench_accuracy.h"
 #include "server/tools/bench_codecs.h"
 #include "server/tools/bench_model.h"
 #include "server/tools/bench_record.h"
@@ -277,8 +278,8 @@ int run(int argc, char** argv) {
   std::vector<int> resolutions = {256, 512, 1024};
   int filter_resolution = 1024, iterations = 3;
   bool json = false, skip_fbs = false;
-  std::vector<std::string> sections = {"model",     "stages", "filters", "codecs",
-                                       "reproject", "record", "security"};
+  std::vector<std::string> sections = {"model",  "accuracy",  "stages", "filters",
+                                       "codecs", "reproject", "record", "security"};
   int model_resolution = 0;
   std::string kaist_dir;
   if (const char* shared = std::getenv("OMNISWEEP_SHARED_DIR"))
@@ -299,10 +300,10 @@ int run(int argc, char** argv) {
   app.add_flag("--skip-fbs", skip_fbs, "Leave out the (slow) fast bilateral solver");
   app.add_option(
          "--sections", sections,
-         "What to measure: model, stages, filters, codecs, reproject, record, security (default: "
-         "all)")
+         "What to measure: model, accuracy, stages, filters, codecs, reproject, record, security "
+         "(default: all)")
       ->check(CLI::IsMember(
-          {"model", "stages", "filters", "codecs", "reproject", "record", "security"}))
+          {"model", "accuracy", "stages", "filters", "codecs", "reproject", "record", "security"}))
       ->delimiter(',');
   app.add_option("--model-resolution", model_resolution,
                  "Matching resolution of the cost model's frame (panorama 2R x R; default: the "
@@ -310,6 +311,21 @@ int run(int argc, char** argv) {
       ->check(CLI::Range(16, 4096));
   app.add_option("--kaist", kaist_dir,
                  "kaist-rig dataset for the codec comparison (default ../shared/data/kaist-rig)");
+  tools::AccuracySectionOptions accuracy;
+  if (const char* shared = std::getenv("OMNISWEEP_SHARED_DIR"))
+    accuracy.dev_set = std::string(shared) + "/data/blender-hall";
+  if (accuracy.dev_set.empty() && std::filesystem::exists("../shared/data/blender-hall"))
+    accuracy.dev_set = "../shared/data/blender-hall";
+  app.add_option("--accuracy-frames", accuracy.frames,
+                 "Synthetic frames per set in the accuracy section")
+      ->check(CLI::Range(1, 100));
+  app.add_option("--accuracy-resolution", accuracy.resolution,
+                 "Matching resolution of the accuracy section (panorama 2R x R; default: the "
+                 "defaults); the development set needs the default")
+      ->check(CLI::Range(16, 4096));
+  app.add_option("--dev-set", accuracy.dev_set,
+                 "Development dataset with ground truth for the accuracy section (default "
+                 "../shared/data/blender-hall; empty: none)");
   depth::DepthOptions model_options;
   tools::add_matching_cost_flags(app, model_options);
   CLI11_PARSE(app, argc, argv);
@@ -326,6 +342,7 @@ int run(int argc, char** argv) {
     return std::find(sections.begin(), sections.end(), section) != sections.end();
   };
   if (want("model")) tools::model_section(context, model_options, model_resolution, json);
+  if (want("accuracy")) tools::accuracy_section(context, accuracy, json);
   if (want("stages")) stage_section(context, resolutions, iterations, json);
   if (want("filters")) filter_section(context, filter_resolution, iterations, skip_fbs, json);
   if (want("codecs")) tools::codec_section(context, kaist_dir, json);

@@ -120,6 +120,10 @@ void vr_frame(gpu::Context& context, bool json) {
 
 }  // namespace
 
+double predicted_xavier_ms(const gpu::CommandLog& log) {
+  return predicted_ms(log.totals(""), kProfiles[0]);
+}
+
 void model_section(gpu::Context& context, depth::DepthOptions options, int resolution, bool json) {
   stitch::StitchOptions stitch_options;
   if (resolution > 0) {

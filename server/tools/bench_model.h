@@ -1,6 +1,7 @@
 // omnisweep-bench --sections model: the frame cost model (bench_model.cc).
 #pragma once
 
+#include "omnisweep/gpu/command_log.h"
 #include "omnisweep/gpu/context.h"
 #include "server/depth/depth_options.h"
 
@@ -10,6 +11,9 @@ namespace omnisweep::tools {
 // matching `resolution` and a panorama of 2 x `resolution` x `resolution`), records what they
 // submit (gpu::CommandLog) and prints, per stage and for the frame, dispatches, barriers, host
 // round trips, bound bytes and the predicted time on named devices.
+// The frame's predicted time on the Jetson AGX Xavier (the paper's device) from a log of it.
+double predicted_xavier_ms(const gpu::CommandLog& log);
+
 void model_section(gpu::Context& context, depth::DepthOptions options, int resolution, bool json);
 
 }  // namespace omnisweep::tools
