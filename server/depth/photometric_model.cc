@@ -227,18 +227,22 @@ void PhotometricCorrection::apply(const PhotometryFit& fit, std::vector<Rgb8Imag
 
 PhotometricCorrector::PhotometricCorrector(const Rig& matching_rig,
                                            const std::vector<std::optional<Gray8Image>>& usable,
-                                           const Rig& colour_rig, std::vector<int> references)
+                                           const Rig& colour_rig, std::vector<int> references,
+                                           int refresh_every)
     : matching_rig_(matching_rig),
       usable_(&usable),
       matching_(matching_rig),
       colour_(colour_rig),
-      references_(std::move(references)) {}
+      references_(std::move(references)),
+      refresh_every_(std::max(1, refresh_every)) {}
 
 const PhotometryFit& PhotometricCorrector::correct(std::vector<Rgb8Image>& matching,
                                                    std::vector<Rgb8Image>& colour) {
-  std::vector<const Rgb8Image*> images;
-  for (const auto& im : matching) images.push_back(&im);
-  last_ = estimate_photometry(matching_rig_, images, *usable_);
+  if (frames_++ % refresh_every_ == 0) {
+    std::vector<const Rgb8Image*> images;
+    for (const auto& im : matching) images.push_back(&im);
+    last_ = estimate_photometry(matching_rig_, images, *usable_);
+  }
   matching_.apply(last_, matching);
   colour_.apply(last_, colour, references_);
   return last_;

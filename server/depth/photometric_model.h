@@ -39,7 +39,7 @@ struct PhotometryFit {
 
 struct PhotometryOptions {
   int directions = 6000;  // spread over the sphere
-  double distance = 2.0;   // metres from the rig's centre, where the directions are taken
+  double distance = 2.0;  // metres from the rig's centre, where the directions are taken
   int iterations = 6;     // Gauss-Newton steps
 };
 
@@ -69,10 +69,12 @@ class PhotometricCorrection {
 // of the references, so the sweep and the panorama's colour both see the scene's own colours.
 class PhotometricCorrector {
  public:
-  // `usable` (at the matching resolution) must outlive this.
+  // `usable` (at the matching resolution) must outlive this. The responses are estimated on the
+  // first frame and again every `refresh_every` frames (exposure and white balance change
+  // slowly; a stream need not pay for the fit every frame), and undone on every frame.
   PhotometricCorrector(const Rig& matching_rig,
                        const std::vector<std::optional<Gray8Image>>& usable, const Rig& colour_rig,
-                       std::vector<int> references);
+                       std::vector<int> references, int refresh_every = 1);
   // `matching`: every camera; `colour`: the references, at the colour rig's sizes.
   const PhotometryFit& correct(std::vector<Rgb8Image>& matching, std::vector<Rgb8Image>& colour);
   const PhotometryFit& last() const { return last_; }
@@ -83,6 +85,8 @@ class PhotometricCorrector {
   PhotometricCorrection matching_;
   PhotometricCorrection colour_;
   std::vector<int> references_;
+  int refresh_every_;
+  long frames_ = 0;
   PhotometryFit last_;
 };
 

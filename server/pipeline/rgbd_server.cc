@@ -80,7 +80,8 @@ struct RgbdServer::Stages {
         distance_codec(codec::make_distance_codec("qinv16-zstd")),
         budget(o.jpeg_quality, o.max_frame_bytes) {
     if (o.depth.correct_photometry)
-      photometry.emplace(matching_rig, masks, colour_rig, o.depth.references);
+      photometry.emplace(matching_rig, masks, colour_rig, o.depth.references,
+                         /*refresh_every=*/30);  // about once a second
   }
 };
 

@@ -132,10 +132,16 @@ int run(int argc, char** argv) {
         std::vector<Rgb8Image> images = depth::matching_images(full, options);
         std::vector<Rgb8Image> colour =
             depth::reference_colour_images(full, colour_rig, options.references);
-        if (photometry) photometry->correct(images, colour);
+        double photometry_ms = 0;
+        if (photometry) {
+          const auto t = Clock::now();
+          photometry->correct(images, colour);
+          photometry_ms = std::chrono::duration<double, std::milli>(Clock::now() - t).count();
+        }
         // One submission from the images to the panorama: depth stays on the GPU.
-        const stitch::Panorama pano =
-            gpu_frame.run(depth::pointers(images), depth::pointers(colour));
+        stitch::Panorama pano = gpu_frame.run(depth::pointers(images), depth::pointers(colour));
+        // The correction's host time joins the GPU stages, as the stage "photometry".
+        if (photometry) pano.stage_ms.insert(pano.stage_ms.begin(), {"photometry", photometry_ms});
         const double ms = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
 
         const FloatImage inverse = reciprocal_or_zero(pano.distance);
