@@ -1,7 +1,7 @@
 // Camera models in GLSL, the same formulas as client_sdk/include/omnisweep/camera/*.h
 // (ALGORITHM.md §2 for the double sphere model). One Camera record per rig camera, filled by
-// server/depth/gpu_camera.cc; rows of cam_from_ref take points from the reference camera's
-// frame into this camera's frame (w holds the translation).
+// reproject::pack_cameras (client_sdk/src/reproject/gpu_camera.cc); rows of cam_from_ref take
+// points from the reference camera's frame into this camera's frame (w holds the translation).
 
 #include "omnisweep/reproject/camera_model_ids.h"
 
