@@ -26,8 +26,8 @@ double DistanceParams::max_quantisation_error() const {
   return 0.5 * (1.0 / min_distance - 1.0 / max_distance) / double(levels - 1);
 }
 
-std::uint32_t checksum(std::span<const std::uint8_t> payload) {
-  uLong crc = crc32(0L, Z_NULL, 0);
+std::uint32_t checksum(std::span<const std::uint8_t> payload, std::uint32_t running) {
+  uLong crc = running;
   std::size_t offset = 0;
   while (offset < payload.size()) {  // zlib takes uInt lengths
     const auto chunk = uInt(std::min<std::size_t>(payload.size() - offset, 1u << 30));

@@ -1,11 +1,11 @@
 #include "omnisweep/record/mcap_reader.h"
 
-#include <zlib.h>
 #include <zstd.h>
 
 #include <algorithm>
 #include <cstring>
 
+#include "omnisweep/codec/codec.h"
 #include "src/record/mcap_format.h"
 
 namespace omnisweep::record {
@@ -105,7 +105,7 @@ bool McapReader::parse(std::span<const std::uint8_t> bytes, std::uint64_t base, 
             decompress(compression, stored, uncompressed_size, where);
         if (inner.size() != uncompressed_size)
           throw McapError(where + ": chunk size differs from its uncompressed_size");
-        if (crc != 0 && std::uint32_t(::crc32(0, inner.data(), uInt(inner.size()))) != crc)
+        if (crc != 0 && codec::checksum(inner) != crc)
           throw McapError(where + ": chunk CRC-32 mismatch");
         ++summary.chunks;
         if (!parse(inner, 0, true, summary, visit, data_end)) return false;

@@ -2,28 +2,14 @@
 
 #include <fcntl.h>
 #include <unistd.h>
-#include <zlib.h>
 
 #include <cerrno>
 #include <cstring>
 
+#include "omnisweep/codec/codec.h"
 #include "src/record/mcap_format.h"
 
 namespace omnisweep::record {
-namespace {
-
-std::uint32_t crc32_of(std::span<const std::uint8_t> bytes, std::uint32_t crc = 0) {
-  // zlib's crc32 takes uInt lengths; feed it in pieces.
-  std::size_t done = 0;
-  while (done < bytes.size()) {
-    const std::size_t n = std::min<std::size_t>(bytes.size() - done, 1u << 30);
-    crc = std::uint32_t(::crc32(crc, bytes.data() + done, uInt(n)));
-    done += n;
-  }
-  return crc;
-}
-
-}  // namespace
 
 McapWriter::McapWriter(const std::filesystem::path& path, McapWriterOptions options)
     : path_(path), options_(std::move(options)) {
@@ -126,7 +112,7 @@ void McapWriter::close_chunk() {
   content.put(chunk_start_)
       .put(chunk_end_)
       .put(std::uint64_t(chunk_.size()))
-      .put(crc32_of(chunk_))
+      .put(codec::checksum(chunk_))
       .put_string("")
       .put(std::uint64_t(chunk_.size()))
       .put_bytes(chunk_);
@@ -210,7 +196,7 @@ void McapWriter::close() {
       .put(summary_start)
       .put(offsets_start);
   tail.insert(tail.end(), footer.out.begin(), footer.out.end());
-  const std::uint32_t crc = crc32_of(tail);  // summary start through summary_offset_start
+  const std::uint32_t crc = codec::checksum(tail);  // summary start through summary_offset_start
   mcap::Bytes end;
   end.put(crc).put_bytes(mcap::kMagic);
   tail.insert(tail.end(), end.out.begin(), end.out.end());

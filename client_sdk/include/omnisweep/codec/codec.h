@@ -77,7 +77,9 @@ inline constexpr std::size_t kLightFrameBytes = 250000;
 // CRC-32 (zlib's) of a payload. JPEG carries no checksum of its own, so every payload travels
 // with this one and receivers call verify_checksum before decoding: a flipped bit anywhere is
 // then an error rather than a wrong image.
-std::uint32_t checksum(std::span<const std::uint8_t> payload);
+// `running`: the CRC of what came before, to checksum data in pieces (MCAP chunks and summaries
+// use the same CRC-32).
+std::uint32_t checksum(std::span<const std::uint8_t> payload, std::uint32_t running = 0);
 void verify_checksum(std::span<const std::uint8_t> payload,
                      std::uint32_t expected);  // throws CodecError
 
