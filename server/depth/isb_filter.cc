@@ -2,6 +2,10 @@
 
 #include <cmath>
 #include <stdexcept>
+#include <string>
+#include <utility>
+
+#include "omnisweep/reproject/forward_warp.h"
 
 namespace omnisweep::depth {
 namespace {
@@ -91,9 +95,17 @@ void IsbFilter::record_winner_take_all(gpu::Sequence& seq, gpu::Buffer& guide, C
   record(seq, guide, volume, params, &distance, wta, guide_first, distance_first);
 }
 
+void IsbParams::check() const {
+  if (!(sigma_i > 0) || !std::isfinite(sigma_i))
+    throw reproject::option_error("IsbParams", "sigma_i", sigma_i, "a positive number");
+  if (!(sigma_s > 0) || !std::isfinite(sigma_s))
+    throw reproject::option_error("IsbParams", "sigma_s", sigma_s, "a positive number");
+}
+
 void IsbFilter::record(gpu::Sequence& seq, gpu::Buffer& guide, CostVolume& volume,
                        const IsbParams& params, gpu::Buffer* distance, const WtaParams& wta,
                        int guide_first, int distance_first) {
+  params.check();
   if (volume.layout().slots != layout_.slots)
     throw std::invalid_argument("ISB filter: the volume's slots differ from the filter's");
   if (guide_first < 0 || distance_first < 0)

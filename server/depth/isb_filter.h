@@ -16,6 +16,8 @@ namespace omnisweep::depth {
 struct IsbParams {
   double sigma_i = 10.0;  // range sigma, 8-bit guide units
   double sigma_s = 25.0;  // spatial sigma in pixels of this resolution
+  // Throws std::invalid_argument naming the field, its value and what is allowed.
+  void check() const;
 };
 
 // Winner takes all fused into the filter's last pass (wta.glsl): the candidates' spacing.

@@ -29,6 +29,17 @@ std::vector<std::uint32_t> random_guide(int pixels, std::mt19937& rng) {
 
 using IsbFilterTest = ValidatedGpuTest;
 
+TEST(IsbParams, CheckNamesTheFieldAndItsValue) {
+  EXPECT_NO_THROW(IsbParams{}.check());
+  try {
+    IsbParams{.sigma_i = 10, .sigma_s = -2}.check();
+    FAIL() << "expected an error";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("IsbParams.sigma_s = -2"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW((IsbParams{.sigma_i = std::nan(""), .sigma_s = 25}.check()), std::invalid_argument);
+}
+
 TEST(IsbLevels, FollowAlgorithmMd) {
   EXPECT_EQ(isb_levels(1024, 1024), 9);  // 1024 ... 4
   EXPECT_EQ(isb_levels(37, 23), 3);

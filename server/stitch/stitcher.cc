@@ -1,6 +1,8 @@
 #include "server/stitch/stitcher.h"
 
+#include <cmath>
 #include <stdexcept>
+#include <string>
 
 namespace omnisweep::stitch {
 namespace {
@@ -37,6 +39,18 @@ struct WeightsPush {
 
 }  // namespace
 
+void StitchOptions::check() const {
+  if (panorama_width != 2 * panorama_height || panorama_height < 4 || panorama_height > 8192) {
+    throw std::invalid_argument(
+        "StitchOptions.panorama_width x panorama_height = " + std::to_string(panorama_width) + "x" +
+        std::to_string(panorama_height) +
+        " (panorama-resolution): width must be twice the height, height within [4, 8192]");
+  }
+  reproject::check_warp_range("StitchOptions", min_distance, max_distance, inpaint_passes);
+  if (viewpoint && !viewpoint->allFinite())
+    throw std::invalid_argument("StitchOptions.viewpoint: must be finite");
+}
+
 Stitcher::Stitcher(gpu::Context& context, const Rig& matching_rig, const Rig& colour_rig,
                    const std::vector<int>& references,
                    const std::vector<std::optional<Gray8Image>>& usable,
@@ -51,8 +65,7 @@ Stitcher::Stitcher(gpu::Context& context, const Rig& matching_rig, const Rig& co
       cameras_(context, 2 * references.size() * sizeof(reproject::GpuCamera)),
       weights_(context, references.size() * std::uint64_t(options.panorama_width) *
                             options.panorama_height * 4),
-      distances_(context,
-                 references.size() * area(matching_rig.cameras.at(references.at(0))) * 4),
+      distances_(context, references.size() * area(matching_rig.cameras.at(references.at(0))) * 4),
       colour_(context, references.size() * area(colour_rig.cameras.at(references.at(0))) * 4),
       out_colour_(context, std::uint64_t(options.panorama_width) * options.panorama_height * 4),
       out_distance_(context, std::uint64_t(options.panorama_width) * options.panorama_height * 4),
@@ -63,11 +76,7 @@ Stitcher::Stitcher(gpu::Context& context, const Rig& matching_rig, const Rig& co
               .push_constant_bytes = sizeof(MergePush),
               .constants = reproject::model_constants(merge_model(matching_rig, colour_rig))}),
       sequence_(context) {
-  if (options.panorama_width != 2 * options.panorama_height || options.panorama_height < 4) {
-    throw std::invalid_argument("panorama-resolution: width must be twice the height (got " +
-                                std::to_string(options.panorama_width) + "x" +
-                                std::to_string(options.panorama_height) + ")");
-  }
+  options.check();
   const RigCamera& first = matching_rig.cameras[references[0]];
   const RigCamera& first_colour = colour_rig.cameras[references[0]];
   std::vector<reproject::GpuCamera> cameras;
@@ -92,9 +101,9 @@ Stitcher::Stitcher(gpu::Context& context, const Rig& matching_rig, const Rig& co
         reproject::pack_camera(colour_cam.model, colour_cam.width, colour_cam.height, Rigid3d()));
   }
   cameras_.upload(cameras.data(), cameras.size() * sizeof(reproject::GpuCamera));
-  warper_.emplace(context, std::move(layers),
-                  reproject::WarpOptions{options.min_distance, options.max_distance,
-                                         options.inpaint_passes});
+  warper_.emplace(
+      context, std::move(layers),
+      reproject::WarpOptions{options.min_distance, options.max_distance, options.inpaint_passes});
 
   compute_weights(usable);
   gpu_bytes_ = context.allocated_bytes() - allocated_before_;
@@ -191,7 +200,8 @@ void Stitcher::upload_colour(const std::vector<const Rgb8Image*>& colour) {
 void Stitcher::record(gpu::Sequence& seq, const gpu::Buffer& distance) {
   const std::uint64_t matching = area(matching_rig_.cameras[references_[0]]);
   if (distance.size() < references_.size() * matching * 4)
-    throw std::invalid_argument("stitch: the distance buffer holds fewer than the references' maps");
+    throw std::invalid_argument(
+        "stitch: the distance buffer holds fewer than the references' maps");
   seq.begin_stage("warp");
   warper_->record(seq, distance);  // ends in a barrier
   seq.begin_stage("merge");

@@ -23,6 +23,8 @@ struct StitchOptions {
   double min_distance = 0.55;
   double max_distance = 100.0;
   int inpaint_passes = 32;
+  // Throws std::invalid_argument naming the field, its value and what is allowed.
+  void check() const;
 };
 
 struct Panorama {

@@ -21,6 +21,31 @@ namespace {
 using omnisweep::testing::ValidatedGpuTest;
 using StitcherTest = ValidatedGpuTest;
 
+TEST(StitchOptions, CheckNamesTheFieldAndItsValue) {
+  EXPECT_NO_THROW(StitchOptions{}.check());
+  auto message = [](const StitchOptions& o) {
+    try {
+      o.check();
+    } catch (const std::invalid_argument& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  StitchOptions o;
+  o.panorama_width = 300;
+  EXPECT_NE(message(o).find("300x1024"), std::string::npos) << message(o);
+  EXPECT_NE(message(o).find("twice the height"), std::string::npos);
+  o = {};
+  o.max_distance = 0.1;
+  EXPECT_NE(message(o).find("StitchOptions.max_distance = 0.1"), std::string::npos) << message(o);
+  o = {};
+  o.inpaint_passes = -1;
+  EXPECT_NE(message(o).find("StitchOptions.inpaint_passes = -1"), std::string::npos) << message(o);
+  o = {};
+  o.viewpoint = Eigen::Vector3d(0, std::nan(""), 0);
+  EXPECT_NE(message(o).find("StitchOptions.viewpoint"), std::string::npos) << message(o);
+}
+
 TEST(BoxFilter, WrapsHorizontallyAndPadsVertically) {
   FloatImage im(8, 4, 1, 0.0f);
   im(0, 1) = 9.0f;

@@ -1,6 +1,8 @@
 #include "omnisweep/reproject/forward_warp.h"
 
 #include <algorithm>
+#include <charconv>
+#include <cmath>
 #include <cstring>
 #include <stdexcept>
 #include <string>
@@ -72,7 +74,9 @@ gpu::Kernel sample_colour_kernel(const gpu::Context& context,
                        4, layers);
 }
 
-std::vector<WarpLayer> checked(std::vector<WarpLayer> layers, bool colour) {
+std::vector<WarpLayer> checked(std::vector<WarpLayer> layers, const WarpOptions& options) {
+  options.check();
+  const bool colour = options.colour;
   if (layers.empty()) throw std::invalid_argument("forward warp: no layers");
   for (const WarpLayer& l : layers) {
     if (l.source.width == 0 || l.target.width == 0)
@@ -90,6 +94,33 @@ std::vector<WarpLayer> checked(std::vector<WarpLayer> layers, bool colour) {
 
 }  // namespace
 
+std::invalid_argument option_error(std::string_view owner, std::string_view field, double value,
+                                   std::string_view allowed) {
+  char text[32];  // to_chars: the shortest form that reads back ("0.5", not "0.500000")
+  char* end = std::to_chars(text, text + sizeof(text), value).ptr;
+  return std::invalid_argument(std::string(owner) + "." + std::string(field) + " = " +
+                               std::string(text, std::size_t(end - text)) + ": must be " +
+                               std::string(allowed));
+}
+
+void check_warp_range(std::string_view owner, double min_distance, double max_distance,
+                      int inpaint_passes) {
+  if (!(min_distance > 0) || !std::isfinite(min_distance))
+    throw option_error(owner, "min_distance", min_distance, "a positive number of metres");
+  if (!(max_distance > min_distance) || !std::isfinite(max_distance))
+    throw option_error(owner, "max_distance", max_distance, "finite and larger than min_distance");
+  if (inpaint_passes < 0 || inpaint_passes > 1024)
+    throw option_error(owner, "inpaint_passes", inpaint_passes, "within [0, 1024]");
+}
+
+void WarpOptions::check() const {
+  check_warp_range("WarpOptions", min_distance, max_distance, inpaint_passes);
+  if (!(max_splat >= 1.0) || !std::isfinite(max_splat))
+    throw option_error("WarpOptions", "max_splat", max_splat, "at least 1 (pixels across)");
+  if (!(occlusion_tolerance >= 0 && occlusion_tolerance < 1))
+    throw option_error("WarpOptions", "occlusion_tolerance", occlusion_tolerance, "within [0, 1)");
+}
+
 ForwardWarper::ForwardWarper(gpu::Context& context, const GpuCamera& source,
                              const GpuCamera& target, const WarpOptions& options)
     : ForwardWarper(context, std::vector<WarpLayer>{{source, target}}, options) {}
@@ -97,7 +128,7 @@ ForwardWarper::ForwardWarper(gpu::Context& context, const GpuCamera& source,
 ForwardWarper::ForwardWarper(gpu::Context& context, std::vector<WarpLayer> layers,
                              const WarpOptions& options)
     : context_(&context),
-      layers_(checked(std::move(layers), options.colour)),
+      layers_(checked(std::move(layers), options)),
       options_(options),
       cameras_(context, 2 * layers_.size() * sizeof(GpuCamera)),
       directions_(context, layers_.size() * pixels(target()) * 16),

@@ -44,6 +44,31 @@ gpu::Buffer source_distance(gpu::Context& context) {
   return buffer;
 }
 
+TEST(WarpOptions, CheckNamesTheFieldAndItsValue) {
+  EXPECT_NO_THROW(WarpOptions{}.check());
+  auto message = [](const WarpOptions& o) {
+    try {
+      o.check();
+    } catch (const std::invalid_argument& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  WarpOptions o;
+  o.max_splat = 0.5;
+  EXPECT_NE(message(o).find("WarpOptions.max_splat = 0.5"), std::string::npos) << message(o);
+  EXPECT_NE(message(o).find("at least 1"), std::string::npos) << message(o);
+  o = {};
+  o.occlusion_tolerance = 1;
+  EXPECT_NE(message(o).find("WarpOptions.occlusion_tolerance = 1"), std::string::npos);
+  o = {};
+  o.min_distance = 0;
+  EXPECT_NE(message(o).find("WarpOptions.min_distance = 0"), std::string::npos);
+  o = {};
+  o.inpaint_passes = 2000;
+  EXPECT_NE(message(o).find("WarpOptions.inpaint_passes = 2000"), std::string::npos);
+}
+
 TEST_F(ForwardWarpTest, NearSurfaceWinsAndHolesFillFromTheBackground) {
   const CameraModel<double> pinhole = PinholeCamera<double>({kFocal, kFocal, kCentre, kCentre});
   // The target sits 0.3 m to the right: target_from_source moves points 0.3 m to the left.
@@ -125,7 +150,7 @@ std::vector<std::uint32_t> inpaint_cpu(std::vector<std::uint32_t> bits,
                                        const std::vector<Direction>& directions, int width,
                                        int height, bool wrap, int passes) {
   constexpr std::uint32_t kEmpty = 0xffffffffu;
-  static const int kOffsets[8][2] = {{1, 0}, {1, 1}, {0, 1}, {-1, 1},
+  static const int kOffsets[8][2] = {{1, 0},  {1, 1},   {0, 1},  {-1, 1},
                                      {-1, 0}, {-1, -1}, {0, -1}, {1, -1}};
   for (int pass = 0; pass < passes; ++pass) {
     std::vector<std::uint32_t> next = bits;

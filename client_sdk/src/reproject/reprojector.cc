@@ -11,7 +11,10 @@ namespace omnisweep::reproject {
 void ReprojectorOptions::check() const {
   if (!(min_distance > 0) || !(max_distance > min_distance))
     throw std::invalid_argument("reprojector: need 0 < min distance < max distance");
-  if (!(max_splat >= 1.0)) throw std::invalid_argument("reprojector: max splat must be >= 1");
+  if (!(max_splat >= 1.0) || !std::isfinite(max_splat)) {
+    throw std::invalid_argument("reprojector: max splat " + std::to_string(max_splat) +
+                                " must be at least 1 (pixels across)");
+  }
   if (!(occlusion_tolerance >= 0 && occlusion_tolerance < 1))
     throw std::invalid_argument("reprojector: occlusion tolerance must lie in [0, 1)");
   if (max_inpaint_passes < 0 || max_inpaint_passes > 1024)

@@ -18,6 +18,8 @@
 #pragma once
 
 #include <optional>
+#include <stdexcept>
+#include <string_view>
 #include <vector>
 
 #include "omnisweep/gpu/kernel.h"
@@ -26,6 +28,15 @@
 #include "omnisweep/reproject/gpu_camera.h"
 
 namespace omnisweep::reproject {
+
+// The error of an option: "<owner>.<field> = <value>: must be <allowed>" (the value in its
+// shortest form). The options' check()s throw it.
+std::invalid_argument option_error(std::string_view owner, std::string_view field, double value,
+                                   std::string_view allowed);
+// The distance range and inpainting passes, which WarpOptions and the options that make one
+// (StitchOptions) share; throws option_error naming `owner`.
+void check_warp_range(std::string_view owner, double min_distance, double max_distance,
+                      int inpaint_passes);
 
 struct WarpOptions {
   double min_distance = 0.55;  // d_min and d_max of the background direction (ALGORITHM.md §5)
@@ -39,6 +50,8 @@ struct WarpOptions {
   // record_colour: a point is hidden from the source when the source's distance map holds a
   // value nearer than (1 - occlusion_tolerance) times the point's distance.
   double occlusion_tolerance = 0.1;
+  // Throws std::invalid_argument naming the field, its value and what is allowed.
+  void check() const;
 };
 
 // One warp of a layered ForwardWarper.
@@ -116,10 +129,10 @@ class ForwardWarper {
   bool directions_stale_ = true;
   gpu::Buffer cameras_;
   gpu::Buffer directions_;
-  gpu::Buffer buffers_[2];  // ping-pong z-buffers
-  gpu::Buffer filled_;      // per pass: did it fill anything
-  int result_ = 0;          // which of buffers_ holds the distance result
-  int colour_result_ = 0;   // which of colour_buffers_ holds the colour result
+  gpu::Buffer buffers_[2];   // ping-pong z-buffers
+  gpu::Buffer filled_;       // per pass: did it fill anything
+  int result_ = 0;           // which of buffers_ holds the distance result
+  int colour_result_ = 0;    // which of colour_buffers_ holds the colour result
   std::uint32_t tile_ = 32;  // inpainting tile side (inpaint_tile.glsl), to fit shared memory
   gpu::Buffer tile_status_;  // per tile and layer, twice: one dispatch writes what the next reads
   std::vector<gpu::Buffer> colour_buffers_;  // ping-pong colours (WarpOptions::colour only)
