@@ -81,7 +81,11 @@ PhotometryFit estimate_photometry(const Rig& rig, const std::vector<const Rgb8Im
     cells.push_back(reduce(*images[c], usable.empty() || !usable[c] ? nullptr : &*usable[c]));
   }
   Eigen::Vector3d centre = Eigen::Vector3d::Zero();
-  for (const auto& cam : rig.cameras) centre += cam.center_in_rig() / n;
+  std::vector<Rigid3d> cam_from_rig;
+  for (const auto& cam : rig.cameras) {
+    centre += cam.center_in_rig() / n;
+    cam_from_rig.push_back(cam.rig_from_cam.inverse());
+  }
 
   // Directions on a Fibonacci sphere, each seen by every camera whose usable cells it falls in.
   std::vector<Sample> samples;
@@ -97,7 +101,7 @@ PhotometryFit estimate_photometry(const Rig& rig, const std::vector<const Rgb8Im
     };
     std::vector<Seen> seen;
     for (int c = 0; c < n; ++c) {
-      const Eigen::Vector3d p = rig.cameras[c].rig_from_cam.inverse() * point;
+      const Eigen::Vector3d p = cam_from_rig[c] * point;
       Eigen::Vector2d uv;
       if (!rig.cameras[c].model.project(p, &uv)) continue;
       const int cx = int(std::floor((uv.x() + 0.5) / cells[c].cell)),

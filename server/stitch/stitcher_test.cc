@@ -14,6 +14,7 @@
 #include "server/stitch/panorama_metrics.h"
 #include "server/synthetic/synthetic_rig.h"
 #include "tests/support/gpu_test_support.h"
+#include "tests/support/test_support.h"
 
 namespace omnisweep::stitch {
 namespace {
@@ -24,12 +25,7 @@ using StitcherTest = ValidatedGpuTest;
 TEST(StitchOptions, CheckNamesTheFieldAndItsValue) {
   EXPECT_NO_THROW(StitchOptions{}.check());
   auto message = [](const StitchOptions& o) {
-    try {
-      o.check();
-    } catch (const std::invalid_argument& e) {
-      return std::string(e.what());
-    }
-    return std::string("no error");
+    return omnisweep::testing::error_message<std::invalid_argument>([&] { o.check(); });
   };
   StitchOptions o;
   o.panorama_width = 300;

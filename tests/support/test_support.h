@@ -15,6 +15,18 @@ std::filesystem::path bin_dir();
 // Where tests/mcap is installed with npm ci (the mcap_node_setup test), for node scripts.
 std::filesystem::path mcap_node_dir();
 
+// The message of the E that `f()` throws, or "no error" when it throws nothing (anything other
+// than an E propagates and fails the test).
+template <typename E, typename F>
+std::string error_message(F&& f) {
+  try {
+    f();
+  } catch (const E& e) {
+    return e.what();
+  }
+  return "no error";
+}
+
 // A fresh, empty folder removed again when the object goes away.
 class ScratchDir {
  public:

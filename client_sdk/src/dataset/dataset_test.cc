@@ -136,12 +136,7 @@ TEST(Dataset, DatasetJsonGivesTheHintsAndBadFieldsAreNamed) {
   EXPECT_EQ(hints.max_distance, 50.0);
   auto error_for = [&](const std::string& text) {
     std::ofstream(dir.path() / "dataset.json") << text;
-    try {
-      Dataset::open(dir.path());
-    } catch (const DatasetError& e) {
-      return std::string(e.what());
-    }
-    return std::string("no error");
+    return omnisweep::testing::error_message<DatasetError>([&] { Dataset::open(dir.path()); });
   };
   EXPECT_NE(error_for("{\"references\": [0, 9]}").find("\"references\""), std::string::npos);
   EXPECT_NE(error_for("{\"viewpoint\": [0, 1]}").find("\"viewpoint\""), std::string::npos);

@@ -9,6 +9,7 @@
 
 #include "omnisweep/gpu/buffer.h"
 #include "tests/support/gpu_test_support.h"
+#include "tests/support/test_support.h"
 
 namespace omnisweep::reproject {
 namespace {
@@ -47,12 +48,7 @@ gpu::Buffer source_distance(gpu::Context& context) {
 TEST(WarpOptions, CheckNamesTheFieldAndItsValue) {
   EXPECT_NO_THROW(WarpOptions{}.check());
   auto message = [](const WarpOptions& o) {
-    try {
-      o.check();
-    } catch (const std::invalid_argument& e) {
-      return std::string(e.what());
-    }
-    return std::string("no error");
+    return omnisweep::testing::error_message<std::invalid_argument>([&] { o.check(); });
   };
   WarpOptions o;
   o.max_splat = 0.5;
@@ -204,6 +200,21 @@ long pixels_apart(const std::vector<std::uint32_t>& gpu, const std::vector<std::
   return differ;
 }
 
+// What the CPU inpaints from: the warp's holes (no inpainting) and its background directions.
+struct RawWarp {
+  std::vector<std::uint32_t> holes;
+  std::vector<Direction> directions;
+};
+RawWarp raw_warp(gpu::Context& context, const GpuCamera& source, const GpuCamera& target,
+                 const gpu::Buffer& distance) {
+  ForwardWarper raw(context, source, target, {.inpaint_passes = 0});
+  gpu::Sequence seq(context);
+  seq.begin();
+  raw.record(seq, distance);
+  seq.submit_and_wait();
+  return {raw.result().download<std::uint32_t>(), raw.directions().download<Direction>()};
+}
+
 // The tiled kernel against the CPU, pass counts across dispatch boundaries (8 passes each), on a
 // pinhole target and on a panorama that wraps around and is no multiple of the tile size.
 TEST_F(ForwardWarpTest, TiledInpaintingMatchesPassByPassInpainting) {
@@ -216,13 +227,8 @@ TEST_F(ForwardWarpTest, TiledInpaintingMatchesPassByPassInpainting) {
   for (const GpuCamera& target : targets) {
     const bool wrap = target.model == std::uint32_t(GpuModel::kEquirectangular);
     const int w = int(target.width), h = int(target.height);
-    ForwardWarper raw(context(), source, target, {.inpaint_passes = 0});
+    const auto [holes, directions] = raw_warp(context(), source, target, distance_buffer);
     gpu::Sequence seq(context());
-    seq.begin();
-    raw.record(seq, distance_buffer);
-    seq.submit_and_wait();
-    const auto holes = raw.result().download<std::uint32_t>();
-    const auto directions = raw.directions().download<Direction>();
     for (const int passes : {1, 5, 8, 9, 16, 23}) {
       ForwardWarper warper(context(), source, target, {.inpaint_passes = passes});
       seq.begin();
@@ -249,13 +255,8 @@ TEST_F(ForwardWarpTest, AdaptiveInpaintingInAnyBatchMatchesTheCpu) {
   const GpuCamera source = pack_camera(pinhole, kSize, kSize, Rigid3d());
   const GpuCamera target = pack_camera(pinhole, kSize, kSize, target_from_source);
   const gpu::Buffer distance_buffer = source_distance(context());
-  ForwardWarper raw(context(), source, target, {.inpaint_passes = 0});
+  const auto [holes, directions] = raw_warp(context(), source, target, distance_buffer);
   gpu::Sequence seq(context());
-  seq.begin();
-  raw.record(seq, distance_buffer);
-  seq.submit_and_wait();
-  const auto holes = raw.result().download<std::uint32_t>();
-  const auto directions = raw.directions().download<Direction>();
   // A wall 5 m away everywhere: no disocclusion, so its run leaves nearly every tile settled.
   const std::vector<float> wall(std::size_t(kSize) * kSize, 5.0f);
   gpu::Buffer wall_buffer(context(), wall.size() * 4);
