@@ -17,7 +17,8 @@
 // With kWinnerTakesAll (the last pass of a cost volume's filter) the filtered costs are not
 // stored: each pixel's winner (wta.glsl) is written to `distance_map` instead, which saves the
 // winner-takes-all kernel a full read of the volume and this pass its write; slot z's distances
-// are plane distance_first + z of `distance_map`.
+// are plane distance_first + z of `distance_map`, and their confidences (wta.glsl) the same plane
+// of `confidence_map`.
 layout(local_size_x_id = 100, local_size_y_id = 101, local_size_z_id = 102) in;
 
 #include "pixels.glsl"
@@ -34,6 +35,7 @@ layout(set = 0, binding = 3) uniform samplerBuffer coarse[kMaxChunks];
 layout(std430, set = 0, binding = 4) writeonly buffer Distance { float distance_map[]; };
 layout(set = 0, binding = 5) uniform usamplerBuffer fine_guide_texels;  // binding 0's buffer
 layout(set = 0, binding = 6) uniform samplerBuffer fine_texels[kMaxChunks];  // binding 2's
+layout(std430, set = 0, binding = 7) writeonly buffer Confidence { float confidence_map[]; };
 layout(push_constant) uniform Push {
   uint fine_width;
   uint fine_height;
@@ -122,13 +124,14 @@ void main() {
   const float inv0 = 1.0 / total0, inv1 = 1.0 / total1, inv2 = 1.0 / total2, inv3 = 1.0 / total3;
 
   Wta wta0, wta1, wta2, wta3;
+  Peaks peaks0, peaks1, peaks2, peaks3;
 // One child's filtered texel: stored in place, or into its winner.
 #define UP_STORE(chunk, child, filtered)                                              \
   if (inside##child) {                                                                \
     if (!kWinnerTakesAll) {                                                           \
       fine[chunk].v[volume_index(slot, t, fine_plane, fine##child)] = VOLUME_T(filtered); \
     } else {                                                                          \
-      wta_texel(wta##child, i, push.num_candidates, filtered);                                             \
+      winner_texel(wta##child, peaks##child, i, push.num_candidates, filtered);       \
     }                                                                                 \
   }
 // Every channel of chunk c (a literal: texel arrays take constant indices, volume.glsl).
@@ -163,8 +166,10 @@ void main() {
 #define UP_FINISH(child)                                                                  \
   if (inside##child) {                                                                    \
     if (kWinnerTakesAll) {                                                                \
-      distance_map[(push.distance_first + slot) * fine_plane + fine##child] = wta_distance( \
-          wta##child, push.num_candidates, push.inv_d_min, push.inv_d_max, push.d_max);   \
+      const uint at = (push.distance_first + slot) * fine_plane + fine##child;           \
+      distance_map[at] = wta_distance(wta##child, push.num_candidates, push.inv_d_min,   \
+                                       push.inv_d_max, push.d_max);                       \
+      confidence_map[at] = peaks_confidence(peaks##child, wta##child, push.num_candidates);           \
     } else {                                                                              \
       fine_guide[guide_base + fine##child] = round_guide(guide_sum##child * inv##child);  \
     }                                                                                     \

@@ -174,6 +174,55 @@ TEST_F(ClientTest, ViewWritesThePanoramaItsDistanceAndANovelView) {
   }
 }
 
+// The optional confidence: a subscriber that asks gets it with each frame, in [0, 1] at the
+// frame's size; one that does not ask (any subscriber from before the topic existed) decodes
+// the same frames as before, with no confidence and nothing counted against it.
+TEST_F(ClientTest, ConfidenceReachesThoseWhoAskAndNoOneElse) {
+  BackgroundProcess server(server_command(" --confidence"), dir_.path() / "server.log");
+  client::SubscriberOptions asking;
+  asking.participant = participant_options();
+  asking.confidence = true;
+  client::SubscriberOptions plain;
+  plain.participant = participant_options();
+  client::RgbdSubscriber with(asking), without(plain);
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(90);
+  std::shared_ptr<const client::RgbdFrame> frame;
+  while (std::chrono::steady_clock::now() < deadline) {
+    frame = with.latest_frame();
+    if (frame && !frame->confidence.empty() && without.latest_frame()) break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  ASSERT_TRUE(frame && !frame->confidence.empty()) << with.stats().last_error << "\n"
+                                                   << server.log();
+  EXPECT_EQ(frame->confidence.width(), frame->distance.width());
+  EXPECT_EQ(frame->confidence.height(), frame->distance.height());
+  double mean = 0;
+  for (const float c : frame->confidence.pixels()) {
+    ASSERT_TRUE(c >= 0 && c <= 1) << c;
+    mean += c / double(frame->confidence.size());
+  }
+  EXPECT_GT(mean, 0.05) << "a confidence map, not an empty one";
+  const auto plain_frame = without.latest_frame();
+  ASSERT_TRUE(plain_frame);
+  EXPECT_TRUE(plain_frame->confidence.empty());
+  EXPECT_EQ(without.stats().frames_without_confidence, 0u);
+  EXPECT_EQ(without.stats().decode_errors, 0u);
+
+  // omnisweep-view writes it beside the panorama.
+  const fs::path out = dir_.path() / "view";
+  std::string log;
+  ASSERT_EQ(run_command(tool_command("view",
+                                     " --confidence --min-confidence 0.2 --frames 2"
+                                     " --timeout 60 --write-interval 0"
+                                     " --pinhole 160 120 90 --output " +
+                                         out.string()),
+                        &log),
+            0)
+      << log << server.log();
+  ASSERT_TRUE(fs::exists(out / "panorama_confidence.png")) << log;
+  EXPECT_EQ(read_gray8_image(out / "panorama_confidence.png").width(), 256);
+}
+
 TEST_F(ClientTest, ViewWithoutAServerTimesOutWithAClearError) {
   std::string log;
   const auto start = std::chrono::steady_clock::now();

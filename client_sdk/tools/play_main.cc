@@ -70,16 +70,19 @@ int run(int argc, char** argv) {
   std::signal(SIGTERM, on_signal);
 
   record::McapReader reader(file);
-  if (options.topic_prefix.empty()) {  // the recorded prefix: read the channels first
-    reader.read([](const record::McapMessage&) { return false; });
-    for (const auto& [id, channel] : reader.channels())
-      if (record::recorded_topic(reader, channel))
-        options.topic_prefix = record::recorded_prefix(channel);
-    if (options.topic_prefix.empty())
-      throw std::runtime_error(file + " holds no omnisweep channel");
+  reader.read([](const record::McapMessage&) { return false; });  // the channels first
+  bool confidence = false;  // a recording with the confidence topic replays it too
+  std::string recorded_prefix;
+  for (const auto& [id, channel] : reader.channels()) {
+    const auto kind = record::recorded_topic(reader, channel);
+    if (!kind) continue;
+    recorded_prefix = record::recorded_prefix(channel);
+    confidence = confidence || *kind == dds::TopicKind::kConfidence;
   }
+  if (recorded_prefix.empty()) throw std::runtime_error(file + " holds no omnisweep channel");
+  if (options.topic_prefix.empty()) options.topic_prefix = recorded_prefix;
   options.check();
-  dds::StreamPublisher publisher(options, frame_profile);
+  dds::StreamPublisher publisher(options, frame_profile, confidence);
   if (wait_for > 0) {
     const auto deadline = Clock::now() + std::chrono::duration<double>(wait_timeout_s);
     while (publisher.frame_subscribers() < wait_for && Clock::now() < deadline && !g_stop)
@@ -102,6 +105,7 @@ int run(int argc, char** argv) {
     msg::StreamDescription description;
     msg::RgbdFrame frame;
     msg::ServerStatus status;
+    msg::ConfidenceFrame frame_confidence;
     const record::McapReadSummary summary = reader.read([&](const record::McapMessage& m) {
       const auto kind = record::recorded_topic(reader, *m.channel);
       if (!kind) return true;
@@ -119,6 +123,9 @@ int run(int argc, char** argv) {
         record::decode_message(m.data, frame);
         publisher.publish(frame);
         ++frames;
+      } else if (*kind == dds::TopicKind::kConfidence) {
+        record::decode_message(m.data, frame_confidence);
+        publisher.publish(frame_confidence);
       } else {
         record::decode_message(m.data, status);
         publisher.publish(status);

@@ -38,13 +38,16 @@ int run(int argc, char** argv) {
       ->check(tools::not_negative());
   app.add_option("--duration", duration_s, "Stop after this many seconds")
       ->check(CLI::Range(0.0, 1e7));
+  bool confidence = false;
+  app.add_flag("--confidence", confidence,
+               "Record the optional confidence topic too (omnisweep-server --confidence)");
   app.add_flag("--verbose", verbose, "Print every frame as it is recorded (sequence number, time)");
   CLI11_PARSE(app, argc, argv);
   options.check();
   std::signal(SIGINT, on_signal);
   std::signal(SIGTERM, on_signal);
 
-  record::StreamRecorder recorder(output, options.topic_prefix);
+  record::StreamRecorder recorder(output, options.topic_prefix, {}, confidence);
   std::atomic<std::uint64_t> frames{0};
   dds::StreamCallbacks callbacks;
   callbacks.description = [&](const msg::StreamDescription& d) {
@@ -63,7 +66,16 @@ int run(int argc, char** argv) {
       std::fflush(stdout);
     }
   };
-  auto subscriber = std::make_unique<dds::StreamSubscriber>(options, profile, std::move(callbacks));
+  std::vector<dds::TopicKind> topics = {dds::TopicKind::kDescription, dds::TopicKind::kStatus,
+                                        dds::TopicKind::kFrames};
+  if (confidence) {
+    callbacks.confidence = [&](const msg::ConfidenceFrame& c) {
+      recorder.record(c, wall_clock_ns());
+    };
+    topics.push_back(dds::TopicKind::kConfidence);
+  }
+  auto subscriber =
+      std::make_unique<dds::StreamSubscriber>(options, profile, std::move(callbacks), topics);
   std::printf("omnisweep-record: recording %s/* on domain %d to %s\n", options.topic_prefix.c_str(),
               options.domain, output.c_str());
   std::fflush(stdout);

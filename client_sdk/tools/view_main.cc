@@ -2,7 +2,9 @@
 // server to decoded here) and bitrate each second, and writes the latest frame as PNGs into
 // --output: panorama.png (colour), panorama_inverse_distance.png (turbo colour map),
 // view.png and view_inverse_distance.png (a novel pinhole view rendered on the GPU from
-// --viewpoint / --offset / --yaw / --pitch / --pinhole). With --frames N it exits 0 after N frames,
+// --viewpoint / --offset / --yaw / --pitch / --pinhole). With --confidence, also
+// panorama_confidence.png (8-bit, 255 = full confidence), and --min-confidence makes the view
+// inpaint over less confident distances. With --frames N it exits 0 after N frames,
 // or 1 when they have not arrived within --timeout.
 #include <CLI/CLI.hpp>
 #include <atomic>
@@ -20,6 +22,7 @@
 #include "client_sdk/tools/status_line.h"
 #include "client_sdk/tools/tool_main.h"
 #include "omnisweep/client/rgbd_subscriber.h"
+#include "omnisweep/codec/codec.h"
 #include "omnisweep/gpu/context.h"
 #include "omnisweep/image/image_io.h"
 #include "omnisweep/reproject/reprojector.h"
@@ -37,6 +40,7 @@ struct ViewOptions {
   std::vector<double> offset = {0, 0, 0};  // added to the viewpoint
   double yaw_deg = 0, pitch_deg = 0;
   std::vector<double> pinhole = {1024, 768, 90};  // W H FOV
+  double min_confidence = 0;                      // ReprojectorOptions::min_confidence
 };
 
 // Writes through a temporary name, so a program watching the folder never reads half a file.
@@ -78,6 +82,10 @@ class ImageWriter {
     write_png_atomically(
         output_ / "panorama_inverse_distance.png",
         colorize_inverse_distance(reciprocal_or_zero(frame.distance), max_inverse));
+    if (!frame.confidence.empty()) {
+      write_png_atomically(output_ / "panorama_confidence.png",
+                           codec::confidence_levels(frame.confidence));
+    }
     if (!context_) return;
     if (!reprojector_) {
       reproject::ReprojectorOptions options;
@@ -85,9 +93,10 @@ class ImageWriter {
         options.min_distance = frame.stream->distance_params.min_distance;
         options.max_distance = frame.stream->distance_params.max_distance;
       }
+      options.min_confidence = view_.min_confidence;
       reprojector_.emplace(*context_, options);
     }
-    reprojector_->set_panorama(frame.colour, frame.distance, frame.viewpoint);
+    reprojector_->set_panorama(frame.colour, frame.distance, frame.viewpoint, frame.confidence);
     const int w = int(view_.pinhole[0]), h = int(view_.pinhole[1]);
     const reproject::View view = reprojector_->render_pinhole(
         view_pose(view_, frame), reproject::pinhole_for_fov(w, h, view_.pinhole[2]), w, h);
@@ -139,6 +148,12 @@ int run(int argc, char** argv) {
   app.add_option("--pinhole", view.pinhole,
                  "Novel view W H FOV (pixels, pixels, horizontal degrees)")
       ->expected(3);
+  app.add_flag("--confidence", options.confidence,
+               "Also receive the distance's confidence (omnisweep-server --confidence) and write "
+               "panorama_confidence.png");
+  app.add_option("--min-confidence", view.min_confidence,
+                 "The novel view inpaints over distances less confident than this (0-1)")
+      ->check(CLI::Range(0.0, 1.0));
   app.add_option("--vk-device", vk_device, "Vulkan device: index or name substring");
   CLI11_PARSE(app, argc, argv);
   if (view.pinhole[0] < 1 || view.pinhole[1] < 1 || view.pinhole[0] > 16384 ||

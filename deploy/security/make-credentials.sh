@@ -6,8 +6,9 @@
 #   make-credentials.sh DIR [NAME:ROLE ...]      default: server:server viewer:viewer status:status
 #
 # ROLE is what the identity may do on every topic prefix:
-#   server   publish <prefix>/description, <prefix>/rgbd, <prefix>/status (omnisweep-server, omnisweep-play)
-#   viewer   subscribe to all three (omnisweep-view, omnisweep-subscribe, omnisweep-record, SDK apps)
+#   server   publish <prefix>/description, <prefix>/rgbd, <prefix>/status and the optional
+#            <prefix>/confidence (omnisweep-server, omnisweep-play)
+#   viewer   subscribe to all four (omnisweep-view, omnisweep-subscribe, omnisweep-record, SDK apps)
 #   status   subscribe to <prefix>/status only (monitoring)
 # Each DIR/NAME/ is a folder to give --security: identity_ca.pem, cert.pem, key.pem (keep it
 # private), permissions_ca.pem, governance.p7s, permissions.p7s. DIR/ca/ keeps the CA; an
@@ -62,6 +63,7 @@ cat > "$ca/governance.xml" <<XML
 $(topic_rule "*/description")
 $(topic_rule "*/rgbd")
 $(topic_rule "*/status")
+$(topic_rule "*/confidence")
       </topic_access_rules>
     </domain_rule>
   </domain_access_rules>
@@ -82,8 +84,8 @@ for entry in "${identities[@]}"; do
   role=${entry#*:}
   [[ $name =~ ^[A-Za-z0-9_-]+$ ]] || { echo "make-credentials: bad identity name '$name'" >&2; exit 2; }
   case $role in
-    server) rules="          <publish>"$'\n'"$(topics_xml "*/description */rgbd */status")"$'\n'"          </publish>" ;;
-    viewer) rules="          <subscribe>"$'\n'"$(topics_xml "*/description */rgbd */status")"$'\n'"          </subscribe>" ;;
+    server) rules="          <publish>"$'\n'"$(topics_xml "*/description */rgbd */status */confidence")"$'\n'"          </publish>" ;;
+    viewer) rules="          <subscribe>"$'\n'"$(topics_xml "*/description */rgbd */status */confidence")"$'\n'"          </subscribe>" ;;
     status) rules="          <subscribe>"$'\n'"$(topics_xml "*/status")"$'\n'"          </subscribe>" ;;
     *) echo "make-credentials: unknown role '$role' for $name (server, viewer or status)" >&2; exit 2 ;;
   esac

@@ -121,7 +121,7 @@ DepthEstimator::DepthEstimator(gpu::Context& context, const Rig& rig,
                                  rig, options.cost)),
       wta_kernel_(
           context, volume_shader("winner_take_all", layout_, /*stores=*/false),
-          volume_kernel_layout({BindingSlot::texels(kMaxChunks), 1}, sizeof(WtaPush), layout_)),
+          volume_kernel_layout({BindingSlot::texels(kMaxChunks), 1, 1}, sizeof(WtaPush), layout_)),
       volume_(context, width_, height_, layout_),
       filter_(context, width_, height_, layout_),
       post_filter_(context, width_, height_, VolumeLayout{1, 1, false, int(slots())}),
@@ -134,6 +134,7 @@ DepthEstimator::DepthEstimator(gpu::Context& context, const Rig& rig,
       cameras_(context, slots() * rig.num_cameras() * sizeof(reproject::GpuCamera)),
       selections_(context, std::uint64_t(width_) * height_ * sizeof(std::int32_t) * slots()),
       distances_(context, width_, height_, VolumeLayout{1, 1, false, int(slots())}),
+      confidences_(context, std::uint64_t(width_) * height_ * sizeof(float) * slots()),
       sequence_(context) {
   if (usable.size() != std::size_t(rig.num_cameras()) && !usable.empty()) {
     throw std::invalid_argument("expected one mask (or none) per camera, got " +
@@ -245,6 +246,7 @@ void DepthEstimator::record_group(gpu::Sequence& seq, int first, bool filter, bo
     const IsbParams params{options_.sigma_i, options_.scaled_sigma_s()};
     if (fused_winner) {
       filter_.record_winner_take_all(seq, guide_, volume_, params, distances_.chunks()[0],
+                                     confidences_,
                                      {std::uint32_t(options_.num_candidates), inv_d_min, inv_d_max,
                                       float(options_.max_distance)},
                                      first, first);
@@ -255,7 +257,7 @@ void DepthEstimator::record_group(gpu::Sequence& seq, int first, bool filter, bo
   if (!finish || fused_winner) return;
   seq.begin_stage("wta");
   seq.dispatch(
-      wta_kernel_, {volume_.texels(dummy_), distances_.chunks()[0]},
+      wta_kernel_, {volume_.texels(dummy_), distances_.chunks()[0], confidences_},
       WtaPush{std::uint32_t(width_), std::uint32_t(height_), std::uint32_t(options_.num_candidates),
               inv_d_min, inv_d_max, float(options_.max_distance), std::uint32_t(first)},
       wta_kernel_.groups_for(width_, height_, group));
@@ -308,6 +310,9 @@ DepthResult DepthEstimator::estimate(const std::vector<const Rgb8Image*>& images
     FloatImage map(width_, height_, 1);
     distance_buffer().download(map.data(), bytes, slot * bytes);
     result.distance.push_back(std::move(map));
+    FloatImage confidence(width_, height_, 1);
+    confidences_.download(confidence.data(), bytes, slot * bytes);
+    result.confidence.push_back(std::move(confidence));
   }
   result.stage_ms = sequence_.stage_ms();
   return result;

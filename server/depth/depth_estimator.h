@@ -24,6 +24,9 @@ namespace omnisweep::depth {
 
 struct DepthResult {
   std::vector<FloatImage> distance;  // per reference, metres, matching resolution
+  // Per reference, matching resolution: the confidence of each distance's cost curve in [0, 1]
+  // (the peak ratio, wta.glsl): near 0 where the curve is flat or has two equal minima.
+  std::vector<FloatImage> confidence;
   std::vector<std::pair<std::string, double>> stage_ms;  // GPU time per stage (both references)
 };
 
@@ -41,10 +44,12 @@ class DepthEstimator {
   // The same without leaving the GPU, for a caller that records what follows into the same
   // submission (the stitcher): upload the images, record depth into `seq` (between its begin()
   // and submit), and the distance maps (matching width x height floats, metres) are in
-  // distance_buffer() once `seq` has run, reference slot k's at float k x width x height.
+  // distance_buffer() once `seq` has run, reference slot k's at float k x width x height, and
+  // their confidences likewise in confidence_buffer().
   void upload(const std::vector<const Rgb8Image*>& images) { upload_images(images); }
   void record(gpu::Sequence& seq);
   const gpu::Buffer& distance_buffer() const;
+  const gpu::Buffer& confidence_buffer() const { return confidences_; }
 
   // Stage by stage, for tests and benchmarks: the camera selection map of reference slot `slot`
   // (-1 = none), and the cost volume of the last uploaded images, raw or ISB-filtered, as
@@ -98,9 +103,10 @@ class DepthEstimator {
   gpu::Buffer features_;   // RGBA8 per camera: matching features (robust costs only)
   gpu::Buffer guide_;      // per reference slot
   gpu::Buffer dummy_;
-  gpu::Buffer cameras_;     // per reference slot, every camera (reproject::pack_cameras)
-  gpu::Buffer selections_;  // per reference slot
-  CostVolume distances_;    // one channel, every reference slot
+  gpu::Buffer cameras_;      // per reference slot, every camera (reproject::pack_cameras)
+  gpu::Buffer selections_;   // per reference slot
+  CostVolume distances_;     // one channel, every reference slot
+  gpu::Buffer confidences_;  // a float plane per reference slot
   gpu::Sequence sequence_;
   std::uint64_t gpu_bytes_ = 0;  // held after construction
 };

@@ -125,6 +125,42 @@ TEST_F(DepthEstimatorTest, WinnerTakesAllEqualsCpu) {
   std::cout << "winner takes all vs CPU: largest inverse-distance difference " << worst
             << " m^-1\n";
   EXPECT_LT(worst, 1e-4);
+
+  // The confidence taken in the same pass (wta.glsl) against the CPU's, on the same curves.
+  double worst_confidence = 0, mean_confidence = 0;
+  for (int p = 0; p < 96 * 96; ++p) {
+    const float cpu = cost_confidence_cpu(&filtered[std::size_t(p) * options.num_candidates],
+                                          options.num_candidates);
+    const float gpu = result.confidence[0].data()[p];
+    ASSERT_TRUE(gpu >= 0 && gpu <= 1) << "pixel " << p << ": " << gpu;
+    worst_confidence = std::max(worst_confidence, double(std::abs(gpu - cpu)));
+    mean_confidence += gpu / (96.0 * 96.0);
+  }
+  std::cout << "confidence vs CPU: largest difference " << worst_confidence << ", mean "
+            << mean_confidence << "\n";
+  EXPECT_LT(worst_confidence, 1e-4);
+  EXPECT_GT(mean_confidence, 0.05);  // not all flat
+}
+
+// The confidence on curves whose answer is known: sqrt(peak ratio x sharpness).
+TEST(CostConfidence, OfKnownCurves) {
+  auto expected = [](double lowest, double second, double curvature) {
+    return float(std::sqrt((1 - lowest / second) * curvature / (curvature + lowest + 1e-12)));
+  };
+  const std::vector<float> flat(8, 2.0f);
+  EXPECT_EQ(cost_confidence_cpu(flat.data(), 8), 0.0f);
+  const std::vector<float> one_minimum = {4, 3, 2, 1, 2, 3, 4, 8};  // second = highest
+  EXPECT_FLOAT_EQ(cost_confidence_cpu(one_minimum.data(), 8), expected(1, 8, 2));
+  const std::vector<float> two_minima = {4, 1, 4, 4, 2, 4, 4, 4};
+  EXPECT_FLOAT_EQ(cost_confidence_cpu(two_minima.data(), 8), expected(1, 2, 6));
+  const std::vector<float> tie = {4, 1, 4, 1, 4};
+  EXPECT_EQ(cost_confidence_cpu(tie.data(), 5), 0.0f);
+  const std::vector<float> ends = {1, 2, 3, 2, 1.5f};  // both ends are minima; one-sided curvature
+  EXPECT_FLOAT_EQ(cost_confidence_cpu(ends.data(), 5), expected(1, 1.5, 2));
+  const std::vector<float> plateau = {3, 2, 2, 2, 3, 4, 3};  // the plateau counts once
+  EXPECT_FLOAT_EQ(cost_confidence_cpu(plateau.data(), 7), expected(2, 3, 1));
+  const std::vector<float> perfect = {5, 0, 5};  // a zero cost with a sharp minimum
+  EXPECT_FLOAT_EQ(cost_confidence_cpu(perfect.data(), 3), 1.0f);
 }
 
 // Measured on lavapipe, 512 px matching, defaults otherwise (frames 0 and 120, references 2, 3):

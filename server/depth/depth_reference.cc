@@ -341,4 +341,32 @@ float winner_take_all_cpu(const float* costs, const DepthOptions& options) {
   return float(1.0 / options.inverse_distance(best + delta));
 }
 
+float cost_confidence_cpu(const float* costs, int n) {
+  // Local minima: no higher than the next candidate, lower than the one before (one neighbour
+  // at the ends), so a plateau counts once.
+  std::vector<float> minima;
+  for (int i = 0; i < n; ++i) {
+    const bool below_before = i == 0 || costs[i] < costs[i - 1];
+    const bool not_above_after = i + 1 == n || costs[i] <= costs[i + 1];
+    if (below_before && not_above_after) minima.push_back(costs[i]);
+  }
+  std::sort(minima.begin(), minima.end());
+  const float highest = *std::max_element(costs, costs + n);
+  const float lowest = minima.front();
+  const float second = minima.size() > 1 ? std::min(minima[1], highest) : highest;
+  const float ratio = second > lowest ? std::clamp(1.0f - lowest / second, 0.0f, 1.0f) : 0.0f;
+  const int best = int(std::min_element(costs, costs + n) - costs);  // the first lowest
+  float curvature;
+  if (n == 1)
+    curvature = 0;
+  else if (best == 0)
+    curvature = 2 * (costs[1] - lowest);
+  else if (best + 1 == n)
+    curvature = 2 * (costs[n - 2] - lowest);
+  else
+    curvature = costs[best - 1] + costs[best + 1] - 2 * lowest;
+  const float sharpness = curvature / (curvature + lowest + 1e-12f);
+  return std::sqrt(ratio * sharpness);
+}
+
 }  // namespace omnisweep::depth

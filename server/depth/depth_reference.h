@@ -58,4 +58,10 @@ std::vector<float> isb_filter_cpu(std::vector<std::uint32_t> guide, std::vector<
 // Winner takes all with the parabola step on one pixel's N costs: the distance in metres.
 float winner_take_all_cpu(const float* costs, const DepthOptions& options);
 
+// The confidence of one pixel's N costs (wta.glsl): sqrt(ratio x sharpness), with the peak ratio
+// 1 - lowest / second (second: the second lowest local minimum, or the highest cost where there
+// is one minimum; 0 for a flat curve) and the sharpness k / (k + lowest) (k: the curvature at the
+// first lowest candidate, one-sided at the ends).
+float cost_confidence_cpu(const float* costs, int n);
+
 }  // namespace omnisweep::depth

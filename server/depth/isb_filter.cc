@@ -34,11 +34,12 @@ gpu::KernelLayout down_layout(VolumeLayout layout) {
 }
 
 // Bindings: the fine guide and volume are written as storage buffers (0, 2) and read as texel
-// buffers (5, 6) of the same memory; the coarse level is read only.
+// buffers (5, 6) of the same memory; the coarse level is read only; the fused winner writes
+// distances (4) and confidences (7).
 gpu::KernelLayout up_layout(VolumeLayout layout, bool winner_take_all) {
   gpu::KernelLayout k =
       volume_kernel_layout({1, BindingSlot::texels(), kMaxChunks, BindingSlot::texels(kMaxChunks),
-                            1, BindingSlot::texels(), BindingSlot::texels(kMaxChunks)},
+                            1, BindingSlot::texels(), BindingSlot::texels(kMaxChunks), 1},
                            sizeof(UpPush), layout);
   k.constants.push_back(gpu::SpecConstant::of(2, std::uint32_t(winner_take_all)));
   return k;
@@ -85,14 +86,15 @@ std::uint64_t IsbFilter::bytes() const {
 
 void IsbFilter::record(gpu::Sequence& seq, gpu::Buffer& guide, CostVolume& volume,
                        const IsbParams& params, int guide_first) {
-  record(seq, guide, volume, params, nullptr, {}, guide_first, 0);
+  record(seq, guide, volume, params, nullptr, nullptr, {}, guide_first, 0);
 }
 
 void IsbFilter::record_winner_take_all(gpu::Sequence& seq, gpu::Buffer& guide, CostVolume& volume,
                                        const IsbParams& params, gpu::Buffer& distance,
-                                       const WtaParams& wta, int guide_first, int distance_first) {
+                                       gpu::Buffer& confidence, const WtaParams& wta,
+                                       int guide_first, int distance_first) {
   if (levels() < 2) throw std::invalid_argument("ISB filter: a fused winner needs 2 levels");
-  record(seq, guide, volume, params, &distance, wta, guide_first, distance_first);
+  record(seq, guide, volume, params, &distance, &confidence, wta, guide_first, distance_first);
 }
 
 void IsbParams::check() const {
@@ -103,8 +105,8 @@ void IsbParams::check() const {
 }
 
 void IsbFilter::record(gpu::Sequence& seq, gpu::Buffer& guide, CostVolume& volume,
-                       const IsbParams& params, gpu::Buffer* distance, const WtaParams& wta,
-                       int guide_first, int distance_first) {
+                       const IsbParams& params, gpu::Buffer* distance, gpu::Buffer* confidence,
+                       const WtaParams& wta, int guide_first, int distance_first) {
   params.check();
   if (volume.layout().slots != layout_.slots)
     throw std::invalid_argument("ISB filter: the volume's slots differ from the filter's");
@@ -132,14 +134,15 @@ void IsbFilter::record(gpu::Sequence& seq, gpu::Buffer& guide, CostVolume& volum
     const double scale = std::ldexp(1.0, l) - 0.5;
     const float w_down = float(std::exp(-scale * scale / (2.0 * params.sigma_s * params.sigma_s)));
     const bool fused = distance && l == 0;
-    seq.dispatch(fused ? up_wta_ : up_,
-                 {guide_at(l), guide_texels(guide_at(l + 1)), volume_at(l).binding(dummy_),
-                  volume_at(l + 1).texels(dummy_), fused ? *distance : dummy_,
-                  guide_texels(guide_at(l)), volume_at(l).texels(dummy_)},
-                 UpPush{std::uint32_t(fw), std::uint32_t(fh), std::uint32_t(cw), std::uint32_t(ch),
-                        inv_two_sigma_sq, w_down, std::uint32_t(l == 0 ? guide_first : 0),
-                        fused ? wta : WtaParams{}, std::uint32_t(distance_first)},
-                 up_.groups_for(cw, ch, slots));  // one invocation per coarse pixel
+    seq.dispatch(
+        fused ? up_wta_ : up_,
+        {guide_at(l), guide_texels(guide_at(l + 1)), volume_at(l).binding(dummy_),
+         volume_at(l + 1).texels(dummy_), fused ? *distance : dummy_, guide_texels(guide_at(l)),
+         volume_at(l).texels(dummy_), fused ? *confidence : dummy_},
+        UpPush{std::uint32_t(fw), std::uint32_t(fh), std::uint32_t(cw), std::uint32_t(ch),
+               inv_two_sigma_sq, w_down, std::uint32_t(l == 0 ? guide_first : 0),
+               fused ? wta : WtaParams{}, std::uint32_t(distance_first)},
+        up_.groups_for(cw, ch, slots));  // one invocation per coarse pixel
     seq.barrier();
   }
 }

@@ -41,19 +41,22 @@ class IsbFilter {
   void record(gpu::Sequence& seq, gpu::Buffer& guide, CostVolume& volume, const IsbParams& params,
               int guide_first = 0);
   // The same, ending in winner-takes-all: the last pass writes each pixel's winning distance to
-  // `distance` (width x height floats per slot, from plane `distance_first` on) instead of the
-  // filtered costs, so `volume` is left holding intermediate values and `guide` is not updated by
-  // that pass. Needs at least 2 levels.
+  // `distance` and the confidence of its cost curve (wta.glsl) to `confidence` (width x height
+  // floats per slot each, from plane `distance_first` on) instead of the filtered costs, so
+  // `volume` is left holding intermediate values and `guide` is not updated by that pass. Needs
+  // at least 2 levels.
   void record_winner_take_all(gpu::Sequence& seq, gpu::Buffer& guide, CostVolume& volume,
-                              const IsbParams& params, gpu::Buffer& distance, const WtaParams& wta,
-                              int guide_first = 0, int distance_first = 0);
+                              const IsbParams& params, gpu::Buffer& distance,
+                              gpu::Buffer& confidence, const WtaParams& wta, int guide_first = 0,
+                              int distance_first = 0);
 
   int levels() const { return int(sizes_.size()); }
   std::uint64_t bytes() const;
 
  private:
   void record(gpu::Sequence& seq, gpu::Buffer& guide, CostVolume& volume, const IsbParams& params,
-              gpu::Buffer* distance, const WtaParams& wta, int guide_first, int distance_first);
+              gpu::Buffer* distance, gpu::Buffer* confidence, const WtaParams& wta, int guide_first,
+              int distance_first);
 
   gpu::Context* context_;
   VolumeLayout layout_;

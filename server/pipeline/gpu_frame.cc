@@ -12,7 +12,7 @@ stitch::Panorama GpuFrame::run(const std::vector<const Rgb8Image*>& matching,
   stitcher_->upload_colour(colour);
   sequence_.begin();
   estimator_->record(sequence_);
-  stitcher_->record(sequence_, estimator_->distance_buffer());
+  stitcher_->record(sequence_, estimator_->distance_buffer(), &estimator_->confidence_buffer());
   sequence_.submit_and_wait();
   stitch::Panorama panorama = stitcher_->download();
   panorama.stage_ms = sequence_.stage_ms();

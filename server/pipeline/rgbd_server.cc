@@ -49,6 +49,7 @@ struct RgbdServer::Job {
   std::vector<Rgb8Image> images;  // full resolution
   stitch::Panorama panorama;
   msg::RgbdFrame message;
+  std::optional<msg::ConfidenceFrame> confidence;  // ServerOptions::confidence
 };
 
 struct RgbdServer::Stages {
@@ -59,6 +60,7 @@ struct RgbdServer::Stages {
   GpuFrame gpu_frame;                                     // the two, one submission per frame
   std::optional<depth::PhotometricCorrector> photometry;  // DepthOptions::correct_photometry
   std::unique_ptr<codec::DistanceCodec> distance_codec;
+  std::unique_ptr<codec::ConfidenceCodec> confidence_codec;
   FrameBudget budget;  // the colour codec, at the quality the frame budget allows
   msg::StreamDescription description;
   BoundedQueue<std::shared_ptr<Job>> to_depth{1}, to_encode{2}, to_publish{2};
@@ -75,9 +77,11 @@ struct RgbdServer::Stages {
                                        .panorama_height = o.panorama_height,
                                        .viewpoint = o.viewpoint,
                                        .min_distance = o.depth.min_distance,
-                                       .max_distance = o.depth.max_distance}),
+                                       .max_distance = o.depth.max_distance,
+                                       .temporal = o.temporal}),
         gpu_frame(context, estimator, stitcher),
         distance_codec(codec::make_distance_codec("qinv16-zstd")),
+        confidence_codec(codec::make_confidence_codec("conf8-zstd")),
         budget(o.jpeg_quality, o.max_frame_bytes) {
     if (o.depth.correct_photometry)
       photometry.emplace(matching_rig, masks, colour_rig, o.depth.references,
@@ -298,6 +302,17 @@ void RgbdServer::encode_loop() {
     m.color(wire::make_payload(stages_->budget.codec_name(), colour));
     m.distance(wire::make_payload(stages_->distance_codec->name(), distance));
     m.distance_params(wire::to_message(options_.distance));
+    if (options_.confidence) {
+      msg::ConfidenceFrame c;
+      c.sequence_number(job.sequence);
+      c.description_revision(stages_->description.revision());
+      c.width(m.width());
+      c.height(m.height());
+      c.confidence(wire::make_payload(
+          stages_->confidence_codec->name(),
+          stages_->confidence_codec->encode(codec::confidence_levels(job.panorama.confidence))));
+      job.confidence = std::move(c);
+    }
     if (!options_.dump_dir.empty()) {
       const std::filesystem::path base =
           std::filesystem::path(options_.dump_dir) / std::to_string(job.sequence);
@@ -316,6 +331,8 @@ void RgbdServer::encode_loop() {
 void RgbdServer::publish_loop() {
   while (auto item = stages_->to_publish.pop()) {
     const auto start = Clock::now();
+    // The confidence first, so that a subscriber holds it when its frame arrives.
+    if ((*item)->confidence) publisher_->publish(*(*item)->confidence);
     (*item)->message.publish_time_ns(wall_clock_ns());
     publisher_->publish((*item)->message);
     add_stage_time("publish", ms_since(start));

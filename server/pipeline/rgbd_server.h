@@ -39,6 +39,11 @@ struct ServerOptions {
   codec::DistanceParams distance;  // min/max distance are taken from `depth`
   std::uint64_t max_frames = 0;    // stop after publishing this many (0: until stopped)
   std::string dump_dir;  // when set: <seq>.jpg and <seq>_distance.f32 of every published frame
+  // Also publish each frame's distance confidence on <prefix>/confidence ("conf8-zstd"), just
+  // before the frame; the publisher must have been made with its confidence topic.
+  bool confidence = false;
+  // A temporal filter on the distance (stitch/temporal_filter.h); none by default.
+  std::optional<stitch::TemporalOptions> temporal;
   bool exit_on_source_end = false;  // else a stalled or ended source is reported and retried
   double log_interval_s = 10.0;     // a status line on stderr this often (0: never)
 

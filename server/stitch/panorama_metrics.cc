@@ -1,7 +1,9 @@
 #include "server/stitch/panorama_metrics.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numeric>
 #include <stdexcept>
 #include <vector>
 
@@ -97,6 +99,83 @@ PanoramaMetrics evaluate_panorama(const Rgb8Image& rgb, const FloatImage& distan
   m.psnr = psnr(rgb, rgb_truth);
   m.ssim = ssim(rgb, rgb_truth);
   return m;
+}
+
+namespace {
+
+// The MAE of the pixels left after removing the first order.size() * x of `order` from the
+// end, for each x of `removed`; `order` is best first.
+std::vector<double> remaining_mae(const std::vector<double>& error,
+                                  const std::vector<std::size_t>& order,
+                                  const std::vector<double>& removed) {
+  // Prefix sums of the errors in order: the MAE of the first k is sums[k] / k.
+  std::vector<double> sums(order.size() + 1, 0.0);
+  for (std::size_t i = 0; i < order.size(); ++i) sums[i + 1] = sums[i] + error[order[i]];
+  std::vector<double> out;
+  for (const double x : removed) {
+    const auto kept =
+        std::max<std::size_t>(1, std::size_t(std::llround(double(order.size()) * (1.0 - x))));
+    out.push_back(sums[kept] / double(kept));
+  }
+  return out;
+}
+
+}  // namespace
+
+Sparsification sparsification(const FloatImage& distance, const FloatImage& confidence,
+                              const FloatImage& inverse_truth, int steps) {
+  require_same_size("distance panorama", distance.width(), distance.height(), inverse_truth.width(),
+                    inverse_truth.height());
+  require_same_size("confidence panorama", confidence.width(), confidence.height(),
+                    inverse_truth.width(), inverse_truth.height());
+  if (steps < 2) throw std::invalid_argument("sparsification: steps must be at least 2");
+  const std::size_t n = distance.size();
+  std::vector<double> error(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const double d = distance.data()[i];
+    error[i] = std::abs((d > 0 ? 1.0 / d : 0.0) - inverse_truth.data()[i]);
+  }
+  Sparsification s;
+  for (int i = 0; i < steps; ++i) s.removed.push_back(double(i) / steps);
+  s.removed.push_back(0.2);  // keeps the 80 % most confident: mae_at_80, taken off below
+  std::vector<std::size_t> by_confidence(n), by_error(n);
+  std::iota(by_confidence.begin(), by_confidence.end(), 0);
+  std::iota(by_error.begin(), by_error.end(), 0);
+  // Ties keep pixel order, so the curve is deterministic.
+  std::stable_sort(by_confidence.begin(), by_confidence.end(), [&](std::size_t a, std::size_t b) {
+    return confidence.data()[a] > confidence.data()[b];
+  });
+  std::stable_sort(by_error.begin(), by_error.end(),
+                   [&](std::size_t a, std::size_t b) { return error[a] < error[b]; });
+  s.mae = remaining_mae(error, by_confidence, s.removed);
+  s.oracle = remaining_mae(error, by_error, s.removed);
+  s.removed.pop_back();
+  s.mae_at_80 = s.mae.back();
+  s.mae.pop_back();
+  s.oracle.pop_back();
+  s.monotonic = true;
+  for (std::size_t i = 0; i < s.mae.size(); ++i) {
+    s.ause += (s.mae[i] - s.oracle[i]) / steps;
+    if (i > 0 && s.mae[i] > s.mae[i - 1]) s.monotonic = false;
+  }
+  return s;
+}
+
+double flicker(const FloatImage& previous_inverse, const FloatImage& inverse,
+               const FloatImage& previous_truth, const FloatImage& truth) {
+  require_same_size("previous panorama", previous_inverse.width(), previous_inverse.height(),
+                    truth.width(), truth.height());
+  require_same_size("panorama", inverse.width(), inverse.height(), truth.width(), truth.height());
+  require_same_size("previous ground truth", previous_truth.width(), previous_truth.height(),
+                    truth.width(), truth.height());
+  double sum = 0;
+  std::size_t count = 0;
+  for (std::size_t i = 0; i < truth.size(); ++i) {
+    if (std::abs(double(truth.data()[i]) - previous_truth.data()[i]) > 1e-6) continue;
+    sum += std::abs(double(inverse.data()[i]) - previous_inverse.data()[i]);
+    ++count;
+  }
+  return count > 0 ? sum / double(count) : 0.0;
 }
 
 }  // namespace omnisweep::stitch

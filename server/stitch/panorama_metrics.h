@@ -4,6 +4,8 @@
 // K1 = 0.01, K2 = 0.03, channels averaged, a 3-pixel border left out).
 #pragma once
 
+#include <vector>
+
 #include "omnisweep/image/image.h"
 
 namespace omnisweep::stitch {
@@ -21,6 +23,27 @@ struct PanoramaMetrics {
 PanoramaMetrics evaluate_panorama(const Rgb8Image& rgb, const FloatImage& distance,
                                   const Rgb8Image& rgb_truth, const FloatImage& inverse_truth);
 double psnr(const Rgb8Image& a, const Rgb8Image& b);
+
+// How well a confidence ranks the errors (a sparsification curve): the pixels sorted by
+// confidence, the least confident share x removed, the MAE of the rest, for x = 0, 1/steps, ...
+// (steps - 1)/steps; the oracle removes the largest errors instead. AUSE is the area between the
+// two curves over x in [0, 1) (rectangles of width 1/steps), in m^-1.
+struct Sparsification {
+  std::vector<double> removed;  // x
+  std::vector<double> mae;      // by confidence
+  std::vector<double> oracle;   // by error
+  double ause = 0;
+  double mae_at_80 = 0;    // the MAE of the 80 % most confident pixels
+  bool monotonic = false;  // whether the curve never rises
+};
+Sparsification sparsification(const FloatImage& distance, const FloatImage& confidence,
+                              const FloatImage& inverse_truth, int steps = 20);
+
+// Flicker between consecutive frames: the mean |change of estimated inverse distance| (m^-1)
+// over the pixels whose true inverse distance did not change (within 1e-6). All four in m^-1;
+// 0 where no pixel's truth held still.
+double flicker(const FloatImage& previous_inverse, const FloatImage& inverse,
+               const FloatImage& previous_truth, const FloatImage& truth);
 double ssim(const Rgb8Image& a, const Rgb8Image& b);
 
 }  // namespace omnisweep::stitch

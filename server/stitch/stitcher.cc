@@ -25,6 +25,11 @@ struct MergePush {
   std::uint32_t width, height, references;
 };
 
+struct MergeConfidencePush {
+  std::uint32_t width, height, references, has_confidence;
+  float tolerance;
+};
+
 struct BoxPush {
   std::uint32_t width, height, layers;
   std::int32_t radius;
@@ -49,6 +54,11 @@ void StitchOptions::check() const {
   reproject::check_warp_range("StitchOptions", min_distance, max_distance, inpaint_passes);
   if (viewpoint && !viewpoint->allFinite())
     throw std::invalid_argument("StitchOptions.viewpoint: must be finite");
+  if (temporal) temporal->check();
+  if (!(confidence_tolerance > 0) || !std::isfinite(confidence_tolerance)) {
+    throw reproject::option_error("StitchOptions", "confidence_tolerance", confidence_tolerance,
+                                  "a positive number (1/m)");
+  }
 }
 
 Stitcher::Stitcher(gpu::Context& context, const Rig& matching_rig, const Rig& colour_rig,
@@ -66,14 +76,16 @@ Stitcher::Stitcher(gpu::Context& context, const Rig& matching_rig, const Rig& co
       weights_(context, references.size() * std::uint64_t(options.panorama_width) *
                             options.panorama_height * 4),
       distances_(context, references.size() * area(matching_rig.cameras.at(references.at(0))) * 4),
+      confidences_(context, distances_.size()),
       colour_(context, references.size() * area(colour_rig.cameras.at(references.at(0))) * 4),
       out_colour_(context, std::uint64_t(options.panorama_width) * options.panorama_height * 4),
       out_distance_(context, std::uint64_t(options.panorama_width) * options.panorama_height * 4),
+      out_confidence_(context, out_distance_.size()),
       merge_(context, "stitch_merge",
              {.bindings = {reproject::camera_binding(), gpu::BindingSlot::texels(),
                            gpu::BindingSlot::texels(), gpu::BindingSlot::texels(),
-                           gpu::BindingSlot::texels(), 1, 1},
-              .push_constant_bytes = sizeof(MergePush),
+                           gpu::BindingSlot::texels(), 1, 1, gpu::BindingSlot::texels(), 1},
+              .push_constant_bytes = sizeof(MergeConfidencePush),
               .constants = reproject::model_constants(merge_model(matching_rig, colour_rig))}),
       sequence_(context) {
   options.check();
@@ -106,6 +118,8 @@ Stitcher::Stitcher(gpu::Context& context, const Rig& matching_rig, const Rig& co
       reproject::WarpOptions{options.min_distance, options.max_distance, options.inpaint_passes});
 
   compute_weights(usable);
+  if (options.temporal)
+    temporal_.emplace(context, options.panorama_width, options.panorama_height, *options.temporal);
   gpu_bytes_ = context.allocated_bytes() - allocated_before_;
 }
 
@@ -197,31 +211,44 @@ void Stitcher::upload_colour(const std::vector<const Rgb8Image*>& colour) {
   }
 }
 
-void Stitcher::record(gpu::Sequence& seq, const gpu::Buffer& distance) {
+void Stitcher::record(gpu::Sequence& seq, const gpu::Buffer& distance,
+                      const gpu::Buffer* confidence) {
   const std::uint64_t matching = area(matching_rig_.cameras[references_[0]]);
   if (distance.size() < references_.size() * matching * 4)
     throw std::invalid_argument(
         "stitch: the distance buffer holds fewer than the references' maps");
+  if (confidence && confidence->size() < references_.size() * matching * 4)
+    throw std::invalid_argument(
+        "stitch: the confidence buffer holds fewer than the references' maps");
   seq.begin_stage("warp");
   warper_->record(seq, distance);  // ends in a barrier
   seq.begin_stage("merge");
-  seq.dispatch(
-      merge_,
-      {cameras_, gpu::Texels(weights_, gpu::TexelFormat::kR32Float),
-       gpu::Texels(warper_->result(), gpu::TexelFormat::kR32Uint),
-       gpu::Texels(distance, gpu::TexelFormat::kR32Float),
-       gpu::Texels(colour_, gpu::TexelFormat::kR32Uint), out_colour_, out_distance_},
-      MergePush{std::uint32_t(options_.panorama_width), std::uint32_t(options_.panorama_height),
-                std::uint32_t(references_.size())},
-      merge_.groups_for(options_.panorama_width, options_.panorama_height));
+  seq.dispatch(merge_,
+               {cameras_, gpu::Texels(weights_, gpu::TexelFormat::kR32Float),
+                gpu::Texels(warper_->result(), gpu::TexelFormat::kR32Uint),
+                gpu::Texels(distance, gpu::TexelFormat::kR32Float),
+                gpu::Texels(colour_, gpu::TexelFormat::kR32Uint), out_colour_, out_distance_,
+                gpu::Texels(confidence ? *confidence : distance, gpu::TexelFormat::kR32Float),
+                out_confidence_},
+               MergeConfidencePush{std::uint32_t(options_.panorama_width),
+                                   std::uint32_t(options_.panorama_height),
+                                   std::uint32_t(references_.size()), confidence ? 1u : 0u,
+                                   float(options_.confidence_tolerance)},
+               merge_.groups_for(options_.panorama_width, options_.panorama_height));
+  if (temporal_) {
+    seq.barrier();
+    temporal_->record(seq, out_distance_, out_colour_);
+  }
   seq.end_stage();
 }
 
 Panorama Stitcher::download() const {
   Panorama out{Rgb8Image(options_.panorama_width, options_.panorama_height, 3),
                FloatImage(options_.panorama_width, options_.panorama_height, 1),
+               FloatImage(options_.panorama_width, options_.panorama_height, 1),
                {}};
   out_distance_.download(out.distance.data(), out.distance.size() * 4);
+  out_confidence_.download(out.confidence.data(), out.confidence.size() * 4);
   std::vector<std::uint32_t> rgba(out.distance.size());
   out_colour_.download(rgba.data(), rgba.size() * 4);
   for (std::size_t p = 0; p < rgba.size(); ++p) {
@@ -232,11 +259,14 @@ Panorama Stitcher::download() const {
 }
 
 Panorama Stitcher::stitch(const std::vector<const FloatImage*>& distance,
-                          const std::vector<const Rgb8Image*>& colour) {
+                          const std::vector<const Rgb8Image*>& colour,
+                          const std::vector<const FloatImage*>& confidence) {
   if (distance.size() != references_.size() || colour.size() != references_.size()) {
     throw std::invalid_argument(
         "stitch: expected one distance map and one colour image per reference");
   }
+  if (!confidence.empty() && confidence.size() != references_.size())
+    throw std::invalid_argument("stitch: expected one confidence map per reference, or none");
   const RigCamera& first = matching_rig_.cameras[references_[0]];
   for (std::size_t k = 0; k < references_.size(); ++k) {
     if (distance[k]->width() != first.width || distance[k]->height() != first.height) {
@@ -248,8 +278,15 @@ Panorama Stitcher::stitch(const std::vector<const FloatImage*>& distance,
   upload_colour(colour);
   for (std::size_t k = 0; k < references_.size(); ++k)
     distances_.upload(distance[k]->data(), area(first) * 4, k * area(first) * 4);
+  for (std::size_t k = 0; k < confidence.size(); ++k) {
+    if (confidence[k]->width() != first.width || confidence[k]->height() != first.height)
+      throw std::invalid_argument("stitch: confidence map of reference " +
+                                  std::to_string(references_[k]) +
+                                  " is not at the matching resolution");
+    confidences_.upload(confidence[k]->data(), area(first) * 4, k * area(first) * 4);
+  }
   sequence_.begin();
-  record(sequence_, distances_);
+  record(sequence_, distances_, confidence.empty() ? nullptr : &confidences_);
   sequence_.submit_and_wait();
   Panorama out = download();
   out.stage_ms = sequence_.stage_ms();

@@ -13,6 +13,7 @@
 
 #include "omnisweep/reproject/forward_warp.h"
 #include "omnisweep/rig/rig.h"
+#include "server/stitch/temporal_filter.h"
 
 namespace omnisweep::stitch {
 
@@ -23,6 +24,13 @@ struct StitchOptions {
   double min_distance = 0.55;
   double max_distance = 100.0;
   int inpaint_passes = 32;
+  // The confidence's scale of inverse-distance disagreement (1/m): between a warped point and
+  // what its reference saw, and between references (stitch_merge.comp). About two candidate
+  // spacings of the default sweep.
+  double confidence_tolerance = 0.1;
+  // A temporal filter on the panorama's distance (temporal_filter.h) for streams: each frame
+  // then depends on the ones before it. None by default.
+  std::optional<TemporalOptions> temporal;
   // Throws std::invalid_argument naming the field, its value and what is allowed.
   void check() const;
 };
@@ -30,6 +38,8 @@ struct StitchOptions {
 struct Panorama {
   Rgb8Image rgb;
   FloatImage distance;  // metres from the viewpoint; 0 where no reference saw anything
+  // Per pixel in [0, 1]: how far to trust `distance` (stitch_merge.comp; 0 where no value).
+  FloatImage confidence;
   std::vector<std::pair<std::string, double>> stage_ms;
 };
 
@@ -43,20 +53,29 @@ class Stitcher {
            const StitchOptions& options);
 
   // distance: per reference, matching resolution (metres); colour: per reference, colour
-  // resolution.
+  // resolution; confidence: per reference, the cost confidences at the matching resolution
+  // (DepthResult::confidence), or empty (the panorama's confidence then comes from the
+  // geometry alone).
   Panorama stitch(const std::vector<const FloatImage*>& distance,
-                  const std::vector<const Rgb8Image*>& colour);
+                  const std::vector<const Rgb8Image*>& colour,
+                  const std::vector<const FloatImage*>& confidence = {});
 
   // The same on distance maps already on the GPU (DepthEstimator::distance_buffer: reference k's
   // map at float k x width x height), in a submission the caller owns: upload_colour, record
   // into `seq` after what writes `distance`, submit, then download. With the depth estimator
   // recorded first, a frame is one submission from the camera images to the panorama: no host
-  // round trip between them. `distance` must stay alive until the submission has run.
+  // round trip between them. `distance` (and `confidence`, laid out the same way, or null) must
+  // stay alive until the submission has run.
   void upload_colour(const std::vector<const Rgb8Image*>& colour);
-  void record(gpu::Sequence& seq, const gpu::Buffer& distance);
+  void record(gpu::Sequence& seq, const gpu::Buffer& distance,
+              const gpu::Buffer* confidence = nullptr);
   Panorama download() const;
 
   const Eigen::Vector3d& viewpoint() const { return viewpoint_; }
+  // With StitchOptions::temporal: the next frame starts the filter again (a new scene or source).
+  void reset_temporal() {
+    if (temporal_) temporal_->reset();
+  }
   // The blending weights per reference (panorama size), as computed on the GPU.
   std::vector<FloatImage> weights() const;
   std::uint64_t gpu_bytes() const { return gpu_bytes_; }
@@ -73,13 +92,16 @@ class Stitcher {
   Eigen::Vector3d viewpoint_;
   std::uint64_t allocated_before_;
   std::optional<reproject::ForwardWarper> warper_;  // one layer per reference
-  gpu::Buffer distances_;  // stitch()'s input maps, reference after reference
+  gpu::Buffer distances_;    // stitch()'s input maps, reference after reference
+  gpu::Buffer confidences_;  // and their confidences
   gpu::Buffer cameras_;
   gpu::Buffer weights_;
   gpu::Buffer colour_;
   gpu::Buffer out_colour_;
   gpu::Buffer out_distance_;
+  gpu::Buffer out_confidence_;
   gpu::Kernel merge_;
+  std::optional<TemporalFilter> temporal_;
   gpu::Sequence sequence_;
   std::uint64_t gpu_bytes_ = 0;
 };

@@ -116,7 +116,8 @@ TEST_F(StitcherTest, PanoramaMatchesTheGroundTruth) {
     EXPECT_LT(worst, 0.02);
   }
   const Panorama pano = stitcher.stitch({&depth.distance[0], &depth.distance[1]},
-                                        {&frame.cameras[2].rgb, &frame.cameras[3].rgb});
+                                        {&frame.cameras[2].rgb, &frame.cameras[3].rgb},
+                                        {&depth.confidence[0], &depth.confidence[1]});
   const PanoramaMetrics m = evaluate_panorama(pano.rgb, pano.distance, frame.panorama.rgb,
                                               frame.panorama.inverse_distance);
   std::cout << "panorama: MAE " << m.mae << " m^-1, RMSE " << m.rmse << ", >0.1 " << 100 * m.bad_0_1
@@ -133,6 +134,17 @@ TEST_F(StitcherTest, PanoramaMatchesTheGroundTruth) {
   EXPECT_GT(m.psnr, 31.5);
   EXPECT_GT(m.ssim, 0.96);
 
+  // The confidence ranks the errors: dropping the least confident pixels lowers the MAE of the
+  // rest, step after step. Measured here: MAE 0.0303, 80 % most confident 0.0202, AUSE 0.0081.
+  const Sparsification curve =
+      sparsification(pano.distance, pano.confidence, frame.panorama.inverse_distance);
+  std::cout << "confidence: MAE of the 80 % most confident " << curve.mae_at_80 << ", AUSE "
+            << curve.ause << (curve.monotonic ? "" : ", curve not monotonic") << "\n";
+  for (const float c : pano.confidence.pixels()) ASSERT_TRUE(c >= 0 && c <= 1) << c;
+  EXPECT_TRUE(curve.monotonic);
+  EXPECT_LT(curve.mae_at_80, 0.75 * m.mae);
+  EXPECT_LT(curve.ause, 0.5 * m.mae);
+
   // The same frame as one submission, depth never leaving the GPU: the same panorama, bit for bit.
   gpu::CommandLog log;
   context().set_command_log(&log);
@@ -143,12 +155,14 @@ TEST_F(StitcherTest, PanoramaMatchesTheGroundTruth) {
   // One submission from the images to the panorama (staged transfers before and after it wait
   // for the GPU too, where memory is not mapped).
   EXPECT_EQ(log.totals().round_trips - log.totals(gpu::CommandLog::kTransferStage).round_trips, 1u);
-  EXPECT_EQ(log.totals().download_bytes, pano.distance.size() * 8)
-      << "only the panorama comes back";
+  EXPECT_EQ(log.totals().download_bytes, pano.distance.size() * 12)
+      << "only the panorama (colour, distance, confidence) comes back";
   EXPECT_TRUE(std::equal(resident.rgb.pixels().begin(), resident.rgb.pixels().end(),
                          pano.rgb.pixels().begin()));
   EXPECT_TRUE(std::equal(resident.distance.pixels().begin(), resident.distance.pixels().end(),
                          pano.distance.pixels().begin()));
+  EXPECT_TRUE(std::equal(resident.confidence.pixels().begin(), resident.confidence.pixels().end(),
+                         pano.confidence.pixels().begin()));
 }
 
 }  // namespace

@@ -90,6 +90,7 @@ Eigen::Vector3d SyntheticRig::viewpoint() const {
 }
 
 Rigid3d SyntheticRig::world_from_rig(int index) const {
+  if (options_.static_rig) index = 0;
   const int n = options_.frames_per_loop;
   const double s = double(((index % n) + n) % n) / n;
   const double yaw = 0.35 * std::sin(2 * kPi * s);

@@ -20,6 +20,7 @@ struct SyntheticRigOptions {
   std::uint64_t seed = 1;
   int image_size = 1216;             // fisheye width = height, pixels (default calibration only)
   int frames_per_loop = 300;         // one lap of the path (10 s at 30 fps)
+  bool static_rig = false;           // every frame at the path's first pose (noise still per frame)
   double lens_half_fov_deg = 110.0;  // 220-degree lenses
   std::vector<int> references = {2, 3};
   PhotometricOptions photometric =
@@ -47,7 +48,8 @@ class SyntheticRig {
   const SyntheticRigOptions& options() const { return options_; }
   // Mean position of the reference cameras, rig frame (ALGORITHM.md §5).
   Eigen::Vector3d viewpoint() const;
-  // The rig's pose at frame `index` (the path repeats every frames_per_loop frames).
+  // The rig's pose at frame `index` (the path repeats every frames_per_loop frames; with
+  // static_rig, the first pose for every index).
   Rigid3d world_from_rig(int index) const;
   std::vector<Gray8Image> masks() const;
   // Camera c's gain, colour cast and vignetting (options().photometric, drawn from the seed).

@@ -2,6 +2,11 @@
 // (ALGORITHM.md §3-6), like the reference implementation: rgb_<frame>.png and
 // inv_distance_<frame>.exr (float32, m^-1), plus a colourised inv_distance_<frame>.png. With
 // --evaluate, compares with gt/ and prints MAE, RMSE, > 0.1, > 0.4, PSNR, SSIM and ms per frame.
+// confidence_<frame>.png holds the distance's confidence as 8-bit levels (255 = 1); with
+// --evaluate, its sparsification curve (AUSE, the MAE of the 80 % most confident pixels) is
+// printed and drawn in sparsification_<frame>.png. --temporal filters the distance over the
+// frames in order (a stream's filter); with --evaluate, the flicker between consecutive frames
+// (the mean |change of inverse distance| where the truth did not change) is printed too.
 #include <CLI/CLI.hpp>
 #include <chrono>
 #include <cstdio>
@@ -12,6 +17,7 @@
 #include <vector>
 
 #include "client_sdk/tools/tool_main.h"
+#include "omnisweep/codec/codec.h"
 #include "omnisweep/dataset/dataset.h"
 #include "omnisweep/image/image_io.h"
 #include "server/depth/depth_estimator.h"
@@ -21,6 +27,8 @@
 #include "server/stitch/panorama_metrics.h"
 #include "server/stitch/stitcher.h"
 #include "server/tools/depth_flags.h"
+#include "server/tools/sparsification_plot.h"
+#include "server/tools/stitch_flags.h"
 
 namespace {
 
@@ -46,6 +54,7 @@ int run(int argc, char** argv) {
   std::vector<int> rgb_resolution, panorama = {2048, 1024};
   std::vector<double> viewpoint;
   bool evaluate = false, json = false;
+  std::optional<stitch::TemporalOptions> temporal;
   app.add_option("--dataset", dataset_dir, "Dataset in the reference layout")->required();
   app.add_option("--output", output_dir, "Folder for the panoramas (created if missing)")
       ->required();
@@ -65,6 +74,7 @@ int run(int argc, char** argv) {
                  "the mean of the references)")
       ->expected(3);
   tools::add_depth_flags(app, options, device);
+  tools::add_temporal_flags(app, temporal);
   CLI11_PARSE(app, argc, argv);
 
   const Dataset dataset = Dataset::open(dataset_dir);
@@ -104,6 +114,7 @@ int run(int argc, char** argv) {
                                        .max_distance = options.max_distance};
   if (!viewpoint.empty())
     stitch_options.viewpoint = Eigen::Vector3d(viewpoint[0], viewpoint[1], viewpoint[2]);
+  stitch_options.temporal = temporal;
   stitch::Stitcher stitcher(context, matching_rig, colour_rig, options.references, masks,
                             stitch_options);
   pipeline::GpuFrame gpu_frame(context, estimator, stitcher);
@@ -121,6 +132,9 @@ int run(int argc, char** argv) {
       frames.empty() ? dataset.frames() : tools::split_list(frames);
   int done = 0, failed = 0;
   std::map<std::string, double> totals;
+  // The previous frame's estimate and truth (inverse distance), for the flicker.
+  std::optional<std::pair<FloatImage, FloatImage>> previous;
+  int flicker_frames = 0;
   const auto skipped = dataset.for_each_frame(
       names,
       [&](Frame&& frame) {
@@ -149,9 +163,13 @@ int run(int argc, char** argv) {
         write_exr(fs::path(output_dir) / ("inv_distance_" + frame.name + ".exr"), inverse);
         write_png(fs::path(output_dir) / ("inv_distance_" + frame.name + ".png"),
                   colorize_inverse_distance(inverse, float(1.0 / options.min_distance)));
+        write_png(fs::path(output_dir) / ("confidence_" + frame.name + ".png"),
+                  codec::confidence_levels(pano.confidence));
 
         const std::vector<std::pair<std::string, double>>& stages = pano.stage_ms;
         std::optional<stitch::PanoramaMetrics> metrics;
+        std::optional<stitch::Sparsification> sparsification;
+        std::optional<double> flicker;  // against the previous frame
         if (evaluate) {
           if (!frame.ground_truth) {
             std::fprintf(
@@ -168,6 +186,19 @@ int run(int argc, char** argv) {
           totals["bad_0_4"] += metrics->bad_0_4;
           totals["psnr"] += metrics->psnr;
           totals["ssim"] += metrics->ssim;
+          sparsification = stitch::sparsification(pano.distance, pano.confidence,
+                                                  frame.ground_truth->inverse_distance);
+          totals["ause"] += sparsification->ause;
+          totals["mae_at_80"] += sparsification->mae_at_80;
+          write_png(fs::path(output_dir) / ("sparsification_" + frame.name + ".png"),
+                    tools::plot_sparsification(*sparsification, "frame " + frame.name));
+          if (previous) {
+            flicker = stitch::flicker(previous->first, inverse, previous->second,
+                                      frame.ground_truth->inverse_distance);
+            totals["flicker"] += *flicker;
+            ++flicker_frames;
+          }
+          previous.emplace(inverse.clone(), frame.ground_truth->inverse_distance.clone());
         }
         totals["ms"] += ms;
         for (const auto& [stage, t] : stages) totals["stage:" + stage] += t;
@@ -180,6 +211,18 @@ int run(int argc, char** argv) {
                 "%.4f, \"ssim\": %.6f",
                 metrics->mae, metrics->rmse, metrics->bad_0_1, metrics->bad_0_4, metrics->psnr,
                 metrics->ssim);
+            std::printf(
+                ", \"ause\": %.6f, \"mae_at_80\": %.6f, \"sparsification_monotonic\": %s, "
+                "\"sparsification\": [",
+                sparsification->ause, sparsification->mae_at_80,
+                sparsification->monotonic ? "true" : "false");
+            for (std::size_t i = 0; i < sparsification->mae.size(); ++i)
+              std::printf("%s%.6f", i ? ", " : "", sparsification->mae[i]);
+            std::printf("], \"oracle\": [");
+            for (std::size_t i = 0; i < sparsification->oracle.size(); ++i)
+              std::printf("%s%.6f", i ? ", " : "", sparsification->oracle[i]);
+            std::printf("]");
+            if (flicker) std::printf(", \"flicker\": %.6f", *flicker);
           }
           if (photometry) {
             // Each camera's estimated gains and the brightness its vignetting leaves at 110 deg.
@@ -205,6 +248,10 @@ int run(int argc, char** argv) {
                 " MAE %.4f, RMSE %.4f, >0.1 %.2f %%, >0.4 %.2f %%, PSNR %.2f dB, SSIM %.4f,",
                 metrics->mae, metrics->rmse, 100 * metrics->bad_0_1, 100 * metrics->bad_0_4,
                 metrics->psnr, metrics->ssim);
+            std::printf(" AUSE %.4f, MAE of the 80 %% most confident %.4f%s,", sparsification->ause,
+                        sparsification->mae_at_80,
+                        sparsification->monotonic ? "" : " (curve not monotonic)");
+            if (flicker) std::printf(" flicker %.4f,", *flicker);
           }
           std::printf(" %.1f ms (", ms);
           for (std::size_t i = 0; i < stages.size(); ++i) {
@@ -222,17 +269,22 @@ int run(int argc, char** argv) {
   if (json) {
     std::printf("{\"summary\": true, \"frames\": %d, \"failed\": %zu", done,
                 skipped.size() + failed);
-    for (const char* key : {"mae", "rmse", "bad_0_1", "bad_0_4", "psnr", "ssim"}) {
+    for (const char* key :
+         {"mae", "rmse", "bad_0_1", "bad_0_4", "psnr", "ssim", "ause", "mae_at_80"}) {
       if (evaluate) std::printf(", \"%s\": %.6f", key, totals[key] / n);
     }
+    if (flicker_frames > 0) std::printf(", \"flicker\": %.6f", totals["flicker"] / flicker_frames);
     std::printf(", \"ms\": %.2f}\n", totals["ms"] / n);
   } else {
     std::printf("%d frame(s) written to %s", done, fs::absolute(output_dir).c_str());
     if (evaluate && done) {
       std::printf(
-          "; overall MAE %.4f, RMSE %.4f, >0.1 %.2f %%, >0.4 %.2f %%, PSNR %.2f dB, SSIM %.4f",
+          "; overall MAE %.4f, RMSE %.4f, >0.1 %.2f %%, >0.4 %.2f %%, PSNR %.2f dB, SSIM %.4f, "
+          "AUSE %.4f, MAE of the 80 %% most confident %.4f",
           totals["mae"] / n, totals["rmse"] / n, 100 * totals["bad_0_1"] / n,
-          100 * totals["bad_0_4"] / n, totals["psnr"] / n, totals["ssim"] / n);
+          100 * totals["bad_0_4"] / n, totals["psnr"] / n, totals["ssim"] / n, totals["ause"] / n,
+          totals["mae_at_80"] / n);
+      if (flicker_frames > 0) std::printf(", flicker %.4f", totals["flicker"] / flicker_frames);
     }
     std::printf("; %.1f ms per frame\n", totals["ms"] / n);
   }

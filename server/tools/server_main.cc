@@ -14,6 +14,7 @@
 #include "server/capture/frame_source.h"
 #include "server/pipeline/rgbd_server.h"
 #include "server/tools/depth_flags.h"
+#include "server/tools/stitch_flags.h"
 
 namespace {
 
@@ -81,6 +82,10 @@ int run(int argc, char** argv) {
                  "data_writer profile of the frame topic (default omnisweep_frames)");
   app.add_option("--frames", options.max_frames, "Stop after publishing N frames (0: run on)")
       ->check(tools::not_negative());
+  tools::add_temporal_flags(app, options.temporal);
+  app.add_flag("--confidence", options.confidence,
+               "Also publish each frame's distance confidence (8-bit, conf8-zstd) on "
+               "<prefix>/confidence; subscribers that do not ask for it are unaffected");
   app.add_option("--dump", options.dump_dir,
                  "Write <seq>.jpg and <seq>_distance.f32 (float32 metres) of every frame here");
   app.add_option("--log-interval", options.log_interval_s,
@@ -119,7 +124,8 @@ int run(int argc, char** argv) {
   }
   std::fprintf(stderr, "omnisweep-server: source: %s\n", source->description().c_str());
   gpu::Context context(tools::context_options(device));
-  auto publisher = std::make_unique<dds::StreamPublisher>(dds_options, frame_profile);
+  auto publisher =
+      std::make_unique<dds::StreamPublisher>(dds_options, frame_profile, options.confidence);
   auto server =
       std::make_unique<pipeline::RgbdServer>(std::move(source), context, *publisher, options);
   std::fprintf(stderr,

@@ -46,6 +46,9 @@ int run(int argc, char** argv) {
   app.add_option("--frames-per-loop", rig_options.frames_per_loop,
                  "Frames in one lap of the rig's path")
       ->check(CLI::PositiveNumber);
+  app.add_flag("--static-rig", rig_options.static_rig,
+               "Keep the rig at the path's first pose in every frame (a static scene for the "
+               "temporal filter; --noise still changes every frame)");
   app.add_option("--lens-fov", rig_options.lens_half_fov_deg,
                  "Half field of view of the lenses, degrees")
       ->check(CLI::Range(1.0, 180.0));

@@ -52,16 +52,73 @@ void wta_candidate(inout Wta s, uint i, uint n, float c) {
   }
 }
 
+// The cost curve's confidence, taken in the same single pass (docs/accuracy.md, "Confidence"):
+// the geometric mean of two things in [0, 1]:
+// - the peak ratio, 1 - m1 / m2, where m1 is the lowest cost and m2 the second lowest local
+//   minimum (a candidate no higher than its neighbours; the ends count with one neighbour), or
+//   the highest cost where the curve has one minimum: near 0 for a flat curve (plain surfaces,
+//   no match) or two equally good distances;
+// - the sharpness, k / (k + m1), where k is the curvature at the winner (C(i-1) + C(i+1) - 2 m1,
+//   one-sided at the ends): near 0 for a broad minimum, whose distance is imprecise.
+// Their product ranked the errors best of what was measured (docs/accuracy.md); the square root
+// spreads it over the 8-bit levels the stream carries.
+const float kNoMinimum = 3.0e38;
+
+struct Peaks {
+  float before_previous, previous;  // the costs of candidates i - 2 and i - 1
+  float lowest, second;             // the two lowest local minima so far
+};
+
+void peaks_insert(inout Peaks s, float m) {
+  if (m < s.lowest) {
+    s.second = s.lowest;
+    s.lowest = m;
+  } else if (m < s.second) {
+    s.second = m;
+  }
+}
+
+// Candidate i of n with cost c (padding candidates past n are skipped).
+void peaks_candidate(inout Peaks s, uint i, uint n, float c) {
+  if (i == 0u) {
+    s = Peaks(kNoMinimum, c, kNoMinimum, kNoMinimum);
+  } else if (i < n) {
+    if (s.previous < s.before_previous && s.previous <= c) peaks_insert(s, s.previous);
+    s.before_previous = s.previous;
+    s.previous = c;
+  }
+}
+
+// After the last candidate, with the winner `w` of the same n candidates.
+float peaks_confidence(Peaks s, Wta w, uint n) {
+  if (s.previous < s.before_previous) peaks_insert(s, s.previous);
+  const float second = min(s.second, w.highest);
+  const float ratio = second > s.lowest ? clamp(1.0 - s.lowest / second, 0.0, 1.0) : 0.0;
+  // Sharpness: the curvature at the winner against its cost (one-sided at the ends).
+  float curvature;
+  if (w.best == 0u) curvature = 2.0 * (w.after - w.lowest);
+  else if (w.best + 1u >= n) curvature = 2.0 * (w.before - w.lowest);
+  else curvature = w.before + w.after - 2.0 * w.lowest;
+  const float sharpness = curvature / (curvature + w.lowest + 1e-12);
+  return sqrt(ratio * sharpness);
+}
+
 #ifdef VOLUME_V
+// Candidate i of n with cost c into the winner and the confidence.
+void winner_candidate(inout Wta wta, inout Peaks peaks, uint i, uint n, float c) {
+  wta_candidate(wta, i, n, c);
+  peaks_candidate(peaks, i, n, c);
+}
+
 // The candidates of one volume texel (volume.glsl, included before this file), i the first.
-void wta_texel(inout Wta s, uint i, uint n, VOLUME_V c) {
+void winner_texel(inout Wta wta, inout Peaks peaks, uint i, uint n, VOLUME_V c) {
 #if VOLUME_PACK == 4
-  wta_candidate(s, i, n, c.x);
-  wta_candidate(s, i + 1u, n, c.y);
-  wta_candidate(s, i + 2u, n, c.z);
-  wta_candidate(s, i + 3u, n, c.w);
+  winner_candidate(wta, peaks, i, n, c.x);
+  winner_candidate(wta, peaks, i + 1u, n, c.y);
+  winner_candidate(wta, peaks, i + 2u, n, c.z);
+  winner_candidate(wta, peaks, i + 3u, n, c.w);
 #else
-  wta_candidate(s, i, n, c);
+  winner_candidate(wta, peaks, i, n, c);
 #endif
 }
 #endif

@@ -1,7 +1,8 @@
 // Writes the seed corpus of the fuzz targets (tests/fuzz/corpus/) from small procedural maps and
 // images and the synthetic rig's calibration seed, so the seeds follow the payload formats:
 //   build-robust/fuzz/omnisweep_fuzz_corpus tests/fuzz/corpus
-// frame_decoder/{distance,jpeg,frame_cdr} (with the target's header bytes) and
+// frame_decoder/{distance,jpeg,frame_cdr,confidence,confidence_cdr} (with the target's header
+// bytes) and
 // mcap_reader/{stream.mcap,cut_short.mcap}. Never from the kaist-rig data (not redistributable).
 #include <cstdio>
 #include <fstream>
@@ -97,6 +98,17 @@ int main(int argc, char** argv) {
     jpeg.insert(jpeg.end(), jpeg_payload.begin(), jpeg_payload.end());
     write_file(root / "frame_decoder/jpeg", jpeg);
 
+    // Confidence: header, then a conf8-zstd payload of a ramp with a low-confidence hole.
+    Gray8Image levels(64, 32, 1);
+    for (int y = 0; y < 32; ++y)
+      for (int x = 0; x < 64; ++x)
+        levels.data()[y * 64 + x] = std::uint8_t(x > 20 && x < 30 && y > 8 && y < 20 ? 3 : 4 * x);
+    const codec::Bytes confidence_payload =
+        codec::make_confidence_codec("conf8-zstd")->encode(levels);
+    std::vector<std::uint8_t> confidence = header(3, 64, 32);
+    confidence.insert(confidence.end(), confidence_payload.begin(), confidence_payload.end());
+    write_file(root / "frame_decoder/confidence", confidence);
+
     // A recording: the description (the synthetic rig's calibration seed), three frames, status.
     std::ifstream calibration(root / "calibration/synthetic_ds.json");
     const std::string json((std::istreambuf_iterator<char>(calibration)), {});
@@ -106,10 +118,17 @@ int main(int argc, char** argv) {
     const fs::path mcap = root / "mcap_reader/stream.mcap";
     fs::create_directories(mcap.parent_path());
     {
-      record::StreamRecorder recorder(mcap, "seed");
+      record::StreamRecorder recorder(mcap, "seed", {}, /*confidence=*/true);
       recorder.record(description, 1'000'000'000);
-      for (int i = 0; i < 3; ++i)
+      for (int i = 0; i < 3; ++i) {
+        msg::ConfidenceFrame c;
+        c.sequence_number(std::uint64_t(i));
+        c.width(64);
+        c.height(32);
+        c.confidence(wire::make_payload("conf8-zstd", confidence_payload));
+        recorder.record(c, 1'100'000'000 + i * 100'000'000);
         recorder.record(frame_message(32, 16, i), 1'100'000'000 + i * 100'000'000);
+      }
       msg::ServerStatus status;
       status.time_ns(1'400'000'000);
       recorder.record(status, 1'400'000'000);
@@ -130,6 +149,13 @@ int main(int argc, char** argv) {
     });
     cdr.insert(cdr.begin(), 2);
     write_file(root / "frame_decoder/frame_cdr", cdr);
+    reader.read([&](const record::McapMessage& m) {
+      if (record::recorded_topic(reader, *m.channel) != dds::TopicKind::kConfidence) return true;
+      cdr.assign(m.data.begin(), m.data.end());
+      return false;
+    });
+    cdr.insert(cdr.begin(), 4);
+    write_file(root / "frame_decoder/confidence_cdr", cdr);
     std::cout << "seed corpus written to " << root << "\n";
   } catch (const std::exception& e) {
     std::cerr << "omnisweep_fuzz_corpus: " << e.what() << "\n";

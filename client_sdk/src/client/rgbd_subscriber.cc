@@ -57,8 +57,18 @@ RgbdSubscriber::RgbdSubscriber(const SubscriberOptions& options, FrameCallback o
     server_running_ = m.state() == "running";
     server_frame_s_ = slowest_ms * 1e-3;
   };
+  std::vector<dds::TopicKind> topics = {dds::TopicKind::kDescription, dds::TopicKind::kStatus,
+                                        dds::TopicKind::kFrames};
+  if (options.confidence) {
+    callbacks.confidence = [this](const msg::ConfidenceFrame& m) {
+      const std::lock_guard lock(mutex_);
+      confidences_.push_back(m);
+      if (confidences_.size() > 4) confidences_.pop_front();
+    };
+    topics.push_back(dds::TopicKind::kConfidence);
+  }
   subscriber_ = std::make_unique<dds::StreamSubscriber>(options.participant, options.profile,
-                                                        std::move(callbacks));
+                                                        std::move(callbacks), topics);
 }
 
 RgbdSubscriber::~RgbdSubscriber() { subscriber_.reset(); }
@@ -72,6 +82,32 @@ void RgbdSubscriber::on_description(const msg::StreamDescription& message) {
     const std::lock_guard lock(mutex_);
     stats_.last_error = std::string("bad stream description: ") + e.what();
   }
+}
+
+FloatImage RgbdSubscriber::take_confidence(const msg::RgbdFrame& m) {
+  std::optional<msg::ConfidenceFrame> found;
+  {
+    const std::lock_guard lock(mutex_);
+    for (auto it = confidences_.begin(); it != confidences_.end(); ++it) {
+      if (it->sequence_number() == m.sequence_number()) {
+        found = std::move(*it);
+        confidences_.erase(confidences_.begin(), it + 1);  // older ones have lost their frames
+        break;
+      }
+    }
+  }
+  try {
+    if (found)
+      return codec::confidence_values(
+          wire::decode_confidence(*found, int(m.width()), int(m.height())));
+  } catch (const std::exception& e) {
+    const std::lock_guard lock(mutex_);
+    stats_.last_error =
+        "confidence of frame " + std::to_string(m.sequence_number()) + ": " + e.what();
+  }
+  const std::lock_guard lock(mutex_);
+  ++stats_.frames_without_confidence;
+  return {};
 }
 
 void RgbdSubscriber::on_frame(const msg::RgbdFrame& m) {
@@ -91,6 +127,7 @@ void RgbdSubscriber::on_frame(const msg::RgbdFrame& m) {
     wire::DecodedFrame decoded = wire::decode_frame(m);
     frame->colour = std::move(decoded.rgb);
     frame->distance = std::move(decoded.distance);
+    if (options_.confidence) frame->confidence = take_confidence(m);
   } catch (const std::exception& e) {
     const std::lock_guard lock(mutex_);
     ++stats_.decode_errors;

@@ -49,6 +49,7 @@ void verify_checksum(std::span<const std::uint8_t> payload, std::uint32_t expect
 
 std::vector<std::string> color_codec_names() { return {"jpeg"}; }
 std::vector<std::string> distance_codec_names() { return {"qinv16-zstd"}; }
+std::vector<std::string> confidence_codec_names() { return {"conf8-zstd"}; }
 
 std::unique_ptr<ColorCodec> make_color_codec(const std::string& name, const ColorOptions& options) {
   if (name == "jpeg") return make_jpeg_codec(options.quality);
@@ -58,6 +59,11 @@ std::unique_ptr<ColorCodec> make_color_codec(const std::string& name, const Colo
 std::unique_ptr<DistanceCodec> make_distance_codec(const std::string& name) {
   if (name == "qinv16-zstd") return make_qinv16_zstd_codec();
   throw CodecError("unknown distance codec '" + name + "' (known: qinv16-zstd)");
+}
+
+std::unique_ptr<ConfidenceCodec> make_confidence_codec(const std::string& name) {
+  if (name == "conf8-zstd") return make_conf8_zstd_codec();
+  throw CodecError("unknown confidence codec '" + name + "' (known: conf8-zstd)");
 }
 
 }  // namespace omnisweep::codec

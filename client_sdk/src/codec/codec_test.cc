@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 #include <utility>
@@ -206,6 +207,76 @@ TEST(JpegCodec, TruncatedAndFlippedPayloadsNeverCrash) {
     }
   }
   EXPECT_NO_THROW(verify_checksum(good, crc));
+}
+
+// Confidence: levels survive exactly, any shape; values map to round(255 c), clamped.
+TEST(ConfidenceCodec, RoundTripAndLevels) {
+  const auto codec = make_confidence_codec("conf8-zstd");
+  EXPECT_EQ(codec->name(), "conf8-zstd");
+  EXPECT_THROW(make_confidence_codec("png"), CodecError);
+  std::mt19937 rng(7);
+  for (const auto [w, h] : {std::pair{1, 1}, {3, 5}, {64, 32}, {257, 19}}) {
+    FloatImage confidence(w, h, 1);
+    for (float& c : confidence.pixels())
+      c = std::uniform_real_distribution<float>(-0.2f, 1.2f)(rng);
+    confidence.data()[0] = std::nanf("");
+    const Gray8Image levels = confidence_levels(confidence);
+    for (std::size_t i = 0; i < levels.size(); ++i) {
+      const float c = confidence.data()[i];
+      const int expected = std::isnan(c) ? 0 : int(std::lround(std::clamp(c, 0.0f, 1.0f) * 255));
+      ASSERT_EQ(levels.data()[i], expected) << i;
+    }
+    const Gray8Image back = codec->decode(codec->encode(levels, 1), w, h);
+    EXPECT_TRUE(std::equal(back.pixels().begin(), back.pixels().end(), levels.pixels().begin()));
+    // Downsampled: a constant map comes back exactly, at any size.
+    Gray8Image constant(w, h, 1, 77);
+    for (const int downsample : {2, 4}) {
+      const Gray8Image c = codec->decode(codec->encode(constant, downsample), w, h);
+      EXPECT_TRUE(std::all_of(c.pixels().begin(), c.pixels().end(), [](auto v) { return v == 77; }))
+          << w << "x" << h << " / " << downsample;
+    }
+    EXPECT_FLOAT_EQ(confidence_values(back).data()[back.size() - 1],
+                    levels.data()[back.size() - 1] / 255.0f);
+  }
+}
+
+// The default stores half the resolution: a smooth map comes back within a level or two,
+// a quarter of the samples stored.
+TEST(ConfidenceCodec, HalfResolutionKeepsSmoothMaps) {
+  const auto codec = make_confidence_codec("conf8-zstd");
+  Gray8Image ramp(128, 64, 1);
+  for (int y = 0; y < 64; ++y)
+    for (int x = 0; x < 128; ++x) ramp.data()[y * 128 + x] = std::uint8_t(x + 2 * y);
+  const Bytes half = codec->encode(ramp);
+  const Gray8Image back = codec->decode(half, 128, 64);
+  int worst = 0;
+  for (int y = 1; y < 63; ++y)  // the outermost samples are extrapolated flat
+    for (int x = 1; x < 127; ++x)
+      worst = std::max(worst, std::abs(int(back.data()[y * 128 + x]) - ramp.data()[y * 128 + x]));
+  EXPECT_LE(worst, 2);
+  EXPECT_LT(half.size(), codec->encode(ramp, 1).size());
+  EXPECT_THROW(codec->encode(ramp, 3), CodecError);
+}
+
+TEST(ConfidenceCodec, BadPayloadsAreErrors) {
+  const auto codec = make_confidence_codec("conf8-zstd");
+  Gray8Image levels(40, 20, 1);
+  for (std::size_t i = 0; i < levels.size(); ++i) levels.data()[i] = std::uint8_t(i * 7);
+  const Bytes good = codec->encode(levels);
+  EXPECT_THROW(codec->decode(good, 20, 40), CodecError);  // other size
+  EXPECT_THROW(codec->decode(std::span(good).first(8), 40, 20), CodecError);
+  for (std::size_t cut = 16; cut < good.size(); cut += 3)
+    EXPECT_THROW(codec->decode(std::span(good).first(cut), 40, 20), CodecError) << cut;
+  Bytes flipped = good;
+  flipped.back() ^= 0x40;  // the content checksum catches it
+  EXPECT_THROW(codec->decode(flipped, 40, 20), CodecError);
+  Bytes huge = good;
+  huge[4] = huge[5] = huge[6] = huge[7] = 0xff;
+  EXPECT_THROW(codec->decode(huge, 40, 20), CodecError);
+  Bytes odd_factor = good;
+  odd_factor[12] = 3;
+  EXPECT_THROW(codec->decode(odd_factor, 40, 20), CodecError);
+  EXPECT_THROW(codec->encode(Gray8Image()), CodecError);
 }
 
 }  // namespace

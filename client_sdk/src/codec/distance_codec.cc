@@ -38,15 +38,6 @@ constexpr int kContexts = 8;  // see pair_contexts
 // Per band: its compressed size, then the length of each context stream.
 constexpr std::size_t kBandEntry = 4 + 4 * kContexts;
 
-void put_u32(std::uint8_t* p, std::uint32_t v) {
-  for (int i = 0; i < 4; ++i) p[i] = std::uint8_t(v >> (8 * i));
-}
-std::uint32_t get_u32(const std::uint8_t* p) {
-  std::uint32_t v = 0;
-  for (int i = 0; i < 4; ++i) v |= std::uint32_t(p[i]) << (8 * i);
-  return v;
-}
-
 inline std::uint16_t zigzag(std::uint16_t r) {
   return std::uint16_t((r << 1) ^ std::uint16_t(std::int16_t(r) >> 15));
 }

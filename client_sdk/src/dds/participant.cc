@@ -8,8 +8,8 @@
 #include <fastdds/dds/topic/TypeSupport.hpp>
 #include <filesystem>
 #include <mutex>
-#include <utility>
 #include <set>
+#include <utility>
 
 #include "omnisweep_msgsPubSubTypes.h"
 #include "qos_profiles.h"
@@ -31,16 +31,33 @@ constexpr std::pair<const char*, const char*> kSecurityFiles[] = {
 }  // namespace
 
 std::string topic_name(const std::string& prefix, TopicKind kind) {
+  return prefix + std::string(topic_spec(kind).suffix);
+}
+
+std::optional<TopicKind> topic_kind_of(std::string_view name) {
+  for (const TopicSpec& topic : kTopics) {
+    if (name.size() > topic.suffix.size() && name.ends_with(topic.suffix)) return topic.kind;
+  }
+  return std::nullopt;
+}
+
+namespace {
+
+fdds::TypeSupport type_support(TopicKind kind) {
   switch (kind) {
     case TopicKind::kDescription:
-      return prefix + "/description";
+      return fdds::TypeSupport(new msg::StreamDescriptionPubSubType());
     case TopicKind::kFrames:
-      return prefix + "/rgbd";
+      return fdds::TypeSupport(new msg::RgbdFramePubSubType());
     case TopicKind::kStatus:
-      return prefix + "/status";
+      return fdds::TypeSupport(new msg::ServerStatusPubSubType());
+    case TopicKind::kConfidence:
+      return fdds::TypeSupport(new msg::ConfidenceFramePubSubType());
   }
   throw DdsError("unknown topic kind");
 }
+
+}  // namespace
 
 void ParticipantOptions::check() const {
   if (domain < 0 || domain > 232)
@@ -130,11 +147,12 @@ Participant::Participant(const ParticipantOptions& options) : options_(options) 
                               "match the permissions)"));
   }
   try {
-    const std::pair<TopicKind, fdds::TypeSupport> types[] = {
-        {TopicKind::kDescription, fdds::TypeSupport(new msg::StreamDescriptionPubSubType())},
-        {TopicKind::kFrames, fdds::TypeSupport(new msg::RgbdFramePubSubType())},
-        {TopicKind::kStatus, fdds::TypeSupport(new msg::ServerStatusPubSubType())}};
-    for (const auto& [kind, type] : types) {
+    for (const TopicSpec& spec : kTopics) {
+      const TopicKind kind = spec.kind;
+      const fdds::TypeSupport type = type_support(kind);
+      if (type.get_type_name() != spec.type_name)
+        throw DdsError("DDS type " + type.get_type_name() + " is not kTopics' " +
+                       std::string(spec.type_name));
       if (type.register_type(participant_) != ReturnCode_t::RETCODE_OK)
         throw DdsError("cannot register DDS type " + type.get_type_name());
       const std::string name = topic_name(options_.topic_prefix, kind);

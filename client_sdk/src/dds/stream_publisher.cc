@@ -16,8 +16,7 @@ class StreamPublisher::Listener final : public fdds::DataWriterListener {
   void on_publication_matched(fdds::DataWriter* writer,
                               const fdds::PublicationMatchedStatus& status) override {
     // By topic, not by pointer: Fast DDS may call before create_datawriter has returned.
-    const std::string name = writer->get_topic()->get_name();
-    if (name.size() >= 5 && name.compare(name.size() - 5, 5, "/rgbd") == 0)
+    if (topic_kind_of(writer->get_topic()->get_name()) == TopicKind::kFrames)
       owner_.matched_ = status.current_count;
   }
 
@@ -26,15 +25,15 @@ class StreamPublisher::Listener final : public fdds::DataWriterListener {
 };
 
 StreamPublisher::StreamPublisher(const dds::ParticipantOptions& options,
-                                 const std::string& frame_profile)
+                                 const std::string& frame_profile, bool confidence)
     : participant_(std::make_unique<dds::Participant>(options)),
       listener_(std::make_unique<Listener>(*this)) {
   fdds::Publisher& publisher = participant_->publisher();
-  const std::pair<dds::TopicKind, std::string> writers[] = {
-      {dds::TopicKind::kDescription, "omnisweep_description"},
-      {dds::TopicKind::kFrames, frame_profile},
-      {dds::TopicKind::kStatus, "omnisweep_status"}};
-  for (const auto& [kind, profile] : writers) {
+  for (const TopicSpec& topic : kTopics) {
+    const TopicKind kind = topic.kind;
+    if (kind == TopicKind::kConfidence && !confidence) continue;
+    const std::string profile =
+        topic.writer_profile.empty() ? frame_profile : std::string(topic.writer_profile);
     fdds::DataWriterQos qos;
     if (publisher.get_datawriter_qos_from_profile(profile, qos) != ReturnCode_t::RETCODE_OK)
       throw dds::DdsError("no data_writer QoS profile \"" + profile + "\"");
@@ -69,6 +68,15 @@ void StreamPublisher::publish(const msg::StreamDescription& description) {
 void StreamPublisher::publish(msg::RgbdFrame& frame) {
   if (!writers_[int(dds::TopicKind::kFrames)]->write(&frame))
     throw dds::DdsError("writing frame " + std::to_string(frame.sequence_number()) + " failed");
+}
+
+void StreamPublisher::publish(msg::ConfidenceFrame& confidence) {
+  auto* writer = writers_[int(dds::TopicKind::kConfidence)];
+  if (!writer) throw dds::DdsError("this publisher was made without the confidence topic");
+  if (!writer->write(&confidence)) {
+    throw dds::DdsError("writing the confidence of frame " +
+                        std::to_string(confidence.sequence_number()) + " failed");
+  }
 }
 
 void StreamPublisher::publish(msg::ServerStatus& status) {

@@ -23,12 +23,8 @@ class StreamSubscriber::Listener final : public fdds::DataReaderListener {
 
   // By topic, not by pointer: Fast DDS may call before create_datareader has returned.
   static TopicKind kind_of(fdds::DataReader* reader) {
-    const std::string name = reader->get_topicdescription()->get_name();
-    if (name.size() >= 5 && name.compare(name.size() - 5, 5, "/rgbd") == 0)
-      return TopicKind::kFrames;
-    if (name.size() >= 7 && name.compare(name.size() - 7, 7, "/status") == 0)
-      return TopicKind::kStatus;
-    return TopicKind::kDescription;
+    return topic_kind_of(reader->get_topicdescription()->get_name())
+        .value_or(TopicKind::kDescription);
   }
 
   void on_data_available(fdds::DataReader* reader) override {
@@ -39,6 +35,11 @@ class StreamSubscriber::Listener final : public fdds::DataReaderListener {
         if (!info.valid_data) continue;
         ++owner_.frames_;
         if (owner_.callbacks_.frame) owner_.callbacks_.frame(frame_);
+      }
+    } else if (kind == TopicKind::kConfidence) {
+      while (reader->take_next_sample(&confidence_, &info) == ReturnCode_t::RETCODE_OK) {
+        if (info.valid_data && owner_.callbacks_.confidence)
+          owner_.callbacks_.confidence(confidence_);
       }
     } else if (kind == TopicKind::kDescription) {
       take_latest(reader, owner_.description_, owner_.callbacks_.description);
@@ -71,6 +72,7 @@ class StreamSubscriber::Listener final : public fdds::DataReaderListener {
  private:
   StreamSubscriber& owner_;
   msg::RgbdFrame frame_;  // reused: frames are large
+  msg::ConfidenceFrame confidence_;
 };
 
 StreamSubscriber::StreamSubscriber(const ParticipantOptions& options,
@@ -81,9 +83,9 @@ StreamSubscriber::StreamSubscriber(const ParticipantOptions& options,
       callbacks_(std::move(callbacks)) {
   fdds::Subscriber& subscriber = participant_->subscriber();
   for (const TopicKind kind : topics) {
-    const std::string profile = kind == TopicKind::kFrames   ? frame_reader_profile(frame_profile)
-                                : kind == TopicKind::kStatus ? "omnisweep_status"
-                                                             : "omnisweep_description";
+    const TopicSpec& spec = topic_spec(kind);
+    const std::string profile = spec.reader_profile.empty() ? frame_reader_profile(frame_profile)
+                                                            : std::string(spec.reader_profile);
     fdds::DataReaderQos qos;
     if (subscriber.get_datareader_qos_from_profile(profile, qos) != ReturnCode_t::RETCODE_OK)
       throw DdsError("no data_reader QoS profile \"" + profile + "\"");

@@ -10,9 +10,6 @@ namespace {
 
 using eprosima::fastrtps::rtps::SerializedPayload_t;
 
-const char* const kTypeNames[3] = {"omnisweep::msg::StreamDescription", "omnisweep::msg::RgbdFrame",
-                                   "omnisweep::msg::ServerStatus"};
-
 template <typename PubSubType, typename Message>
 std::vector<std::uint8_t> to_cdr(Message& message) {
   PubSubType type;
@@ -37,18 +34,18 @@ void from_cdr(std::span<const std::uint8_t> data, Message& out) {
 }  // namespace
 
 StreamRecorder::StreamRecorder(const std::filesystem::path& path, const std::string& topic_prefix,
-                               McapWriterOptions options)
+                               McapWriterOptions options, bool confidence)
     : writer_(path, [&] {
         if (options.profile.empty()) options.profile = "x-omnisweep";
         return options;
       }()) {
   const std::span<const std::uint8_t> idl(reinterpret_cast<const std::uint8_t*>(kIdlText),
                                           std::strlen(kIdlText));
-  for (int k = 0; k < 3; ++k) {
-    const auto kind = dds::TopicKind(k);
-    const std::uint16_t schema = writer_.add_schema(kTypeNames[k], "omgidl", idl);
-    channels_[k] = writer_.add_channel(schema, dds::topic_name(topic_prefix, kind), "cdr",
-                                       {{"topic_prefix", topic_prefix}});
+  for (const dds::TopicSpec& topic : dds::kTopics) {
+    if (topic.kind == dds::TopicKind::kConfidence && !confidence) continue;
+    const std::uint16_t schema = writer_.add_schema(std::string(topic.type_name), "omgidl", idl);
+    channels_[int(topic.kind)] = writer_.add_channel(
+        schema, dds::topic_name(topic_prefix, topic.kind), "cdr", {{"topic_prefix", topic_prefix}});
   }
 }
 
@@ -60,10 +57,15 @@ void StreamRecorder::write(dds::TopicKind kind, Message& message, std::uint64_t 
     bytes = to_cdr<msg::StreamDescriptionPubSubType>(message);
   else if constexpr (std::is_same_v<Message, msg::RgbdFrame>)
     bytes = to_cdr<msg::RgbdFramePubSubType>(message);
+  else if constexpr (std::is_same_v<Message, msg::ConfidenceFrame>)
+    bytes = to_cdr<msg::ConfidenceFramePubSubType>(message);
   else
     bytes = to_cdr<msg::ServerStatusPubSubType>(message);
+  if (!channels_[int(kind)])
+    throw McapError("this recorder was made without a channel for " +
+                    std::string(dds::topic_spec(kind).suffix));
   const std::lock_guard lock(mutex_);
-  writer_.write(channels_[int(kind)], sequences_[int(kind)]++, log_time_ns,
+  writer_.write(*channels_[int(kind)], sequences_[int(kind)]++, log_time_ns,
                 publish_time_ns ? publish_time_ns : log_time_ns, bytes);
 }
 
@@ -81,6 +83,11 @@ void StreamRecorder::record(const msg::RgbdFrame& frame, std::uint64_t log_time_
 void StreamRecorder::record(const msg::ServerStatus& status, std::uint64_t log_time_ns) {
   auto copy = status;
   write(dds::TopicKind::kStatus, copy, log_time_ns, status.time_ns());
+}
+
+void StreamRecorder::record(const msg::ConfidenceFrame& confidence, std::uint64_t log_time_ns) {
+  write(dds::TopicKind::kConfidence, const_cast<msg::ConfidenceFrame&>(confidence), log_time_ns,
+        log_time_ns);
 }
 
 void StreamRecorder::flush_due(std::uint64_t now_ns) {
@@ -101,8 +108,8 @@ McapWriteStats StreamRecorder::stats() const {
 std::optional<dds::TopicKind> recorded_topic(const McapReader& reader, const McapChannel& channel) {
   const auto schema = reader.schemas().find(channel.schema_id);
   if (schema == reader.schemas().end() || channel.message_encoding != "cdr") return std::nullopt;
-  for (int k = 0; k < 3; ++k)
-    if (schema->second.name == kTypeNames[k]) return dds::TopicKind(k);
+  for (const dds::TopicSpec& topic : dds::kTopics)
+    if (schema->second.name == topic.type_name) return topic.kind;
   return std::nullopt;
 }
 
@@ -119,6 +126,9 @@ void decode_message(std::span<const std::uint8_t> data, msg::RgbdFrame& out) {
 }
 void decode_message(std::span<const std::uint8_t> data, msg::ServerStatus& out) {
   from_cdr<msg::ServerStatusPubSubType>(data, out);
+}
+void decode_message(std::span<const std::uint8_t> data, msg::ConfidenceFrame& out) {
+  from_cdr<msg::ConfidenceFramePubSubType>(data, out);
 }
 
 }  // namespace omnisweep::record

@@ -19,6 +19,10 @@ void ReprojectorOptions::check() const {
     throw std::invalid_argument("reprojector: occlusion tolerance must lie in [0, 1)");
   if (max_inpaint_passes < 0 || max_inpaint_passes > 1024)
     throw std::invalid_argument("reprojector: max inpaint passes must lie in [0, 1024]");
+  if (!(min_confidence >= 0 && min_confidence <= 1)) {
+    throw std::invalid_argument("reprojector: min confidence " + std::to_string(min_confidence) +
+                                " must lie in [0, 1]");
+  }
 }
 
 Eigen::Quaterniond cube_face_rotation(CubeFace face) {
@@ -64,6 +68,26 @@ PinholeCamera<double> pinhole_for_fov(int width, int height, double horizontal_f
 Reprojector::Reprojector(gpu::Context& context, const ReprojectorOptions& options)
     : context_(&context), options_(options) {
   options_.check();
+}
+
+void Reprojector::set_panorama(const Rgb8Image& colour, const FloatImage& distance,
+                               const Eigen::Vector3d& viewpoint, const FloatImage& confidence) {
+  if (confidence.empty() || options_.min_confidence <= 0) {
+    set_panorama(colour, distance, viewpoint);
+    return;
+  }
+  if (confidence.width() != distance.width() || confidence.height() != distance.height() ||
+      confidence.channels() != 1) {
+    throw std::invalid_argument("reprojector: the confidence is " +
+                                std::to_string(confidence.width()) + "x" +
+                                std::to_string(confidence.height()) + ", not the distance's size");
+  }
+  // Low-confidence distances become holes, which the warp's inpainting fills from around them.
+  FloatImage trusted = distance.clone();
+  for (std::size_t i = 0; i < trusted.size(); ++i) {
+    if (!(confidence.data()[i] >= options_.min_confidence)) trusted.data()[i] = 0.0f;
+  }
+  set_panorama(colour, trusted, viewpoint);
 }
 
 void Reprojector::set_panorama(const Rgb8Image& colour, const FloatImage& distance,

@@ -126,4 +126,15 @@ DecodedFrame decode_frame(const msg::RgbdFrame& frame) {
   return out;
 }
 
+Gray8Image decode_confidence(const msg::ConfidenceFrame& confidence, int width, int height) {
+  if (int64_t(confidence.width()) != width || int64_t(confidence.height()) != height) {
+    fail("confidence", "size " + std::to_string(confidence.width()) + "x" +
+                           std::to_string(confidence.height()) + " is not the frame's " +
+                           std::to_string(width) + "x" + std::to_string(height));
+  }
+  const auto codec = codec::make_confidence_codec(confidence.confidence().codec());
+  return codec->decode(checked_bytes(confidence.confidence(), "confidence.confidence"), width,
+                       height);
+}
+
 }  // namespace omnisweep::wire

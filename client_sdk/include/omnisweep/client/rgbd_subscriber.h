@@ -12,6 +12,7 @@
 #include <chrono>
 #include <condition_variable>
 #include <cstdint>
+#include <deque>
 #include <functional>
 #include <memory>
 #include <mutex>
@@ -45,8 +46,11 @@ struct StreamInfo {
 struct RgbdFrame {
   std::uint64_t sequence_number = 0;  // consecutive per server run; gaps are frames lost
   std::uint64_t description_revision = 0;
-  Rgb8Image colour;                                     // equirectangular, ALGORITHM.md §5
-  FloatImage distance;                                  // metres from the viewpoint, 0 = no value
+  Rgb8Image colour;     // equirectangular, ALGORITHM.md §5
+  FloatImage distance;  // metres from the viewpoint, 0 = no value
+  // Per pixel in [0, 1], how far to trust `distance` (docs/accuracy.md); empty unless
+  // SubscriberOptions::confidence asked for it and the server publishes it (--confidence).
+  FloatImage confidence;
   Eigen::Vector3d viewpoint = Eigen::Vector3d::Zero();  // rig frame
   std::shared_ptr<const StreamInfo> stream;    // the matching description; null until received
   std::vector<std::uint64_t> capture_time_ns;  // per camera
@@ -76,6 +80,8 @@ struct SubscriberOptions {
   dds::ParticipantOptions participant;
   std::string profile = "live";  // "live", "reliable" or a data_reader profile of the QoS file
   double stall_after_s = 2.0;
+  // Also read <prefix>/confidence and attach each frame's confidence (RgbdFrame::confidence).
+  bool confidence = false;
 };
 
 struct SubscriberStats {
@@ -83,6 +89,9 @@ struct SubscriberStats {
   std::uint64_t frames_decoded = 0;
   std::uint64_t decode_errors = 0;  // corrupt or mismatched payloads, dropped
   std::uint64_t frames_lost = 0;    // gaps in sequence numbers
+  // With SubscriberOptions::confidence: frames whose confidence had not arrived (or was corrupt)
+  // when they did; they come without one.
+  std::uint64_t frames_without_confidence = 0;
   std::uint64_t bytes_received = 0;
   std::string last_error;
 };
@@ -112,6 +121,8 @@ class RgbdSubscriber {
  private:
   void on_frame(const msg::RgbdFrame& message);
   void on_description(const msg::StreamDescription& message);
+  // The confidence of `m` if it has arrived: decoded, or empty (counted).
+  FloatImage take_confidence(const msg::RgbdFrame& m);
 
   SubscriberOptions options_;
   FrameCallback callback_;
@@ -122,6 +133,7 @@ class RgbdSubscriber {
   SubscriberStats stats_;
   std::uint64_t frame_count_ = 0;
   std::optional<std::uint64_t> last_sequence_;
+  std::deque<msg::ConfidenceFrame> confidences_;  // the newest few, waiting for their frames
   std::chrono::steady_clock::time_point last_frame_time_;
   // When the last status arrived, whether it said "running", and the slowest stage's time in it:
   // a server slower than stall_after_s per frame is not stalled while it reports working.

@@ -7,6 +7,9 @@
 //   distance: "qinv16-zstd" inverse distance quantised to 16-bit levels over [1/d_max, 1/d_min]
 //             (0 = no value), planar prediction, residuals sorted into 8 context streams, zstd
 //             with a content checksum (docs/wire-format.md has the layout).
+//   confidence: "conf8-zstd" confidence in [0, 1] as 8-bit levels round(255 c), by default at
+//             half resolution, left prediction, zstd with a content checksum (optional;
+//             docs/wire-format.md).
 #pragma once
 
 #include <cstddef>
@@ -62,6 +65,21 @@ class DistanceCodec {
                             const DistanceParams& params) const = 0;
 };
 
+// The per-pixel confidence of a distance panorama, as 8-bit levels (0 = none, 255 = full).
+class ConfidenceCodec {
+ public:
+  virtual ~ConfidenceCodec() = default;
+  virtual std::string name() const = 0;
+  // `downsample`: stored at 1/downsample of the resolution per axis (1, 2 or 4; the block means),
+  // decoded back to full size by bilinear interpolation.
+  virtual Bytes encode(const Gray8Image& levels, int downsample = 2) const = 0;
+  // Throws CodecError unless `payload` holds a width x height map.
+  virtual Gray8Image decode(std::span<const std::uint8_t> payload, int width, int height) const = 0;
+};
+// Confidence in [0, 1] to levels round(255 c) (non-finite: 0), and back (level / 255).
+Gray8Image confidence_levels(const FloatImage& confidence);
+FloatImage confidence_values(const Gray8Image& levels);
+
 struct ColorOptions {
   int quality = 90;
 };
@@ -87,7 +105,9 @@ void verify_checksum(std::span<const std::uint8_t> payload,
 std::unique_ptr<ColorCodec> make_color_codec(const std::string& name,
                                              const ColorOptions& options = {});
 std::unique_ptr<DistanceCodec> make_distance_codec(const std::string& name);
+std::unique_ptr<ConfidenceCodec> make_confidence_codec(const std::string& name);
 std::vector<std::string> color_codec_names();
 std::vector<std::string> distance_codec_names();
+std::vector<std::string> confidence_codec_names();
 
 }  // namespace omnisweep::codec

@@ -4,14 +4,17 @@
 // DdsError naming the entity that failed; the destructor deletes the contained entities, then
 // the participant.
 //
-// Topics (docs/wire-format.md): <prefix>/description, <prefix>/rgbd, <prefix>/status.
+// Topics (docs/wire-format.md): kTopics below, the one list of them.
 // QoS comes from Fast DDS XML profiles (deploy/qos/omnisweep_qos.xml, embedded at build time;
 // ParticipantOptions::qos_file loads another file instead).
 #pragma once
 
+#include <array>
 #include <memory>
+#include <optional>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 
 namespace eprosima::fastdds::dds {
 class DomainParticipant;
@@ -27,10 +30,34 @@ class DdsError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-enum class TopicKind { kDescription, kFrames, kStatus };
+enum class TopicKind { kDescription, kFrames, kStatus, kConfidence };
 
-// "<prefix>/description", "<prefix>/rgbd", "<prefix>/status".
+// A topic of the stream: its name after the prefix, its message type (idl/omnisweep_msgs.idl)
+// and the QoS profiles of its writer and reader (deploy/qos/omnisweep_qos.xml); an empty
+// profile means the frame topic's, which the endpoints choose (live or reliable).
+struct TopicSpec {
+  TopicKind kind;
+  std::string_view suffix;
+  std::string_view type_name;
+  std::string_view writer_profile;
+  std::string_view reader_profile;
+};
+inline constexpr std::array<TopicSpec, 4> kTopics = {{
+    {TopicKind::kDescription, "/description", "omnisweep::msg::StreamDescription",
+     "omnisweep_description", "omnisweep_description"},
+    {TopicKind::kFrames, "/rgbd", "omnisweep::msg::RgbdFrame", "", ""},
+    {TopicKind::kStatus, "/status", "omnisweep::msg::ServerStatus", "omnisweep_status",
+     "omnisweep_status"},
+    {TopicKind::kConfidence, "/confidence", "omnisweep::msg::ConfidenceFrame", "", ""},
+}};
+constexpr const TopicSpec& topic_spec(TopicKind kind) { return kTopics[std::size_t(kind)]; }
+static_assert(topic_spec(TopicKind::kConfidence).kind == TopicKind::kConfidence,
+              "kTopics is in TopicKind's order");
+
+// "<prefix>/description", "<prefix>/rgbd", ...
 std::string topic_name(const std::string& prefix, TopicKind kind);
+// The kind of a full topic name, by its suffix; nullopt for none of the stream's.
+std::optional<TopicKind> topic_kind_of(std::string_view name);
 
 struct ParticipantOptions {
   int domain = 0;  // DDS domain id, 0-232 (the range Fast DDS's default port mapping allows)
@@ -63,7 +90,7 @@ class Participant {
  private:
   ParticipantOptions options_;
   eprosima::fastdds::dds::DomainParticipant* participant_ = nullptr;
-  eprosima::fastdds::dds::Topic* topics_[3] = {nullptr, nullptr, nullptr};
+  std::array<eprosima::fastdds::dds::Topic*, kTopics.size()> topics_{};
   eprosima::fastdds::dds::Publisher* publisher_ = nullptr;
   eprosima::fastdds::dds::Subscriber* subscriber_ = nullptr;
 };

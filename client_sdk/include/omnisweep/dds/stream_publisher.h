@@ -1,7 +1,8 @@
-// A stream's publishing end (the server, omnisweep-play): one writer per topic of the stream (docs/wire-format.md), QoS from
-// the XML profiles (deploy/qos/omnisweep_qos.xml).
+// A stream's publishing end (the server, omnisweep-play): one writer per topic of the stream
+// (docs/wire-format.md), QoS from the XML profiles (deploy/qos/omnisweep_qos.xml).
 #pragma once
 
+#include <array>
 #include <atomic>
 #include <memory>
 #include <string>
@@ -17,9 +18,12 @@ namespace omnisweep::dds {
 
 class StreamPublisher {
  public:
-  // `frame_profile`: the data_writer profile of the frame topic.
+  // `frame_profile`: the data_writer profile of the frame topic (and of the confidence topic).
+  // `confidence`: also write <prefix>/confidence (publish(ConfidenceFrame&)); off, its writer is
+  // never created, so credentials made before the topic existed still work.
   explicit StreamPublisher(const dds::ParticipantOptions& options,
-                           const std::string& frame_profile = "omnisweep_frames");
+                           const std::string& frame_profile = "omnisweep_frames",
+                           bool confidence = false);
   ~StreamPublisher();
   StreamPublisher(const StreamPublisher&) = delete;
   StreamPublisher& operator=(const StreamPublisher&) = delete;
@@ -28,6 +32,8 @@ class StreamPublisher {
   void publish(const msg::StreamDescription& description);
   void publish(msg::RgbdFrame& frame);
   void publish(msg::ServerStatus& status);
+  // Throws dds::DdsError when the publisher was made without `confidence`, too.
+  void publish(msg::ConfidenceFrame& confidence);
 
   // Readers matched on the frame topic.
   int frame_subscribers() const { return matched_; }
@@ -37,7 +43,7 @@ class StreamPublisher {
   std::unique_ptr<dds::Participant> participant_;
   std::unique_ptr<Listener> listener_;
   std::atomic<int> matched_{0};
-  eprosima::fastdds::dds::DataWriter* writers_[3] = {nullptr, nullptr, nullptr};
+  std::array<eprosima::fastdds::dds::DataWriter*, kTopics.size()> writers_{};
 };
 
 }  // namespace omnisweep::dds

@@ -3,6 +3,7 @@
 // a subscriber started after the server still receives it.
 #pragma once
 
+#include <array>
 #include <atomic>
 #include <cstdint>
 #include <functional>
@@ -25,6 +26,7 @@ struct StreamCallbacks {
   std::function<void(const msg::StreamDescription&)> description;
   std::function<void(const msg::RgbdFrame&)> frame;
   std::function<void(const msg::ServerStatus&)> status;
+  std::function<void(const msg::ConfidenceFrame&)> confidence;  // with TopicKind::kConfidence
 };
 
 class StreamSubscriber {
@@ -32,8 +34,8 @@ class StreamSubscriber {
   // `frame_profile`: "live" (best effort, newest frames; viewers) or "reliable" (every frame,
   // retransmitted; recorders), or the name of a data_reader profile in the QoS file.
   // `topics`: which of the stream's topics to read (a monitoring identity may be allowed only
-  // the status). Throws DdsError naming the topic whose reader cannot be created (with DDS
-  // Security: not permitted).
+  // the status; the optional confidence is read only when listed, with the frame's profile). Throws
+  // DdsError naming the topic whose reader cannot be created (with DDS Security: not permitted).
   StreamSubscriber(const ParticipantOptions& options, const std::string& frame_profile,
                    StreamCallbacks callbacks,
                    std::vector<TopicKind> topics = {TopicKind::kDescription, TopicKind::kStatus,
@@ -58,7 +60,7 @@ class StreamSubscriber {
   std::optional<msg::ServerStatus> status_;
   std::atomic<std::uint64_t> frames_{0};
   std::atomic<int> matched_{0};
-  eprosima::fastdds::dds::DataReader* readers_[3] = {nullptr, nullptr, nullptr};
+  std::array<eprosima::fastdds::dds::DataReader*, kTopics.size()> readers_{};
 };
 
 // "live" -> "omnisweep_live", "reliable" -> "omnisweep_reliable"; other names unchanged.

@@ -38,6 +38,9 @@ struct ReprojectorOptions {
   // translation times the inverse distance of the panorama's nearest surface, in target
   // pixels) plus 4 for cracks, and at most this many passes.
   int max_inpaint_passes = 256;
+  // With a confidence (set_panorama's): pixels less confident than this are treated as holes and
+  // inpainted from their surroundings, as pixels with no value are. 0: every pixel is used.
+  double min_confidence = 0.0;
 
   void check() const;  // throws std::invalid_argument naming the bad option
 };
@@ -66,6 +69,10 @@ class Reprojector {
   // width x height, in the rig frame's axes, centred on `viewpoint` (rig frame).
   void set_panorama(const Rgb8Image& colour, const FloatImage& distance,
                     const Eigen::Vector3d& viewpoint);
+  // The same with the distance's confidence in [0, 1] (RgbdFrame::confidence; empty: none), for
+  // ReprojectorOptions::min_confidence.
+  void set_panorama(const Rgb8Image& colour, const FloatImage& distance,
+                    const Eigen::Vector3d& viewpoint, const FloatImage& confidence);
 
   View render_panorama(const Rigid3d& rig_from_view, int width, int height);
   View render_pinhole(const Rigid3d& rig_from_view, const PinholeCamera<double>& camera, int width,

@@ -40,4 +40,8 @@ struct DecodedFrame {
 // Checks and decodes a frame whole, or throws WireError / codec::CodecError.
 DecodedFrame decode_frame(const msg::RgbdFrame& frame);
 
+// Checks and decodes a frame's confidence (levels, 255 = full confidence) for a width x height
+// frame, or throws WireError / codec::CodecError.
+Gray8Image decode_confidence(const msg::ConfidenceFrame& confidence, int width, int height);
+
 }  // namespace omnisweep::wire

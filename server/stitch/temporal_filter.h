@@ -1,0 +1,64 @@
+// A temporal filter for panorama streams (omnisweep-server --temporal, omnisweep-process
+// --temporal): each pixel's inverse distance becomes the running mean over the frames since it
+// last changed, at most TemporalOptions::max_frames of them, so a static scene stops flickering.
+// Nothing ghosts: a pixel starts again where its colour or its distance moved, and every pixel
+// does where much of the panorama's colour moved at once (the rig or the light moved). It runs
+// on the stitched panorama, on the GPU, after the merge (temporal_changes.comp,
+// temporal_filter.comp); temporal_filter_cpu is the plain C++ reference.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "omnisweep/gpu/kernel.h"
+#include "omnisweep/gpu/sequence.h"
+#include "omnisweep/image/image.h"
+
+namespace omnisweep::stitch {
+
+struct TemporalOptions {
+  int max_frames = 8;              // frames in the running mean at most (1: no filtering)
+  double jump = 0.1;               // 1/m: a new inverse distance this far from the mean restarts
+  double colour_threshold = 20.0;  // sum of |dR| + |dG| + |dB| (8-bit) that restarts a pixel
+  double reset_share = 0.05;       // share of pixels whose colour moved that restarts them all
+  // Throws std::invalid_argument naming the field, its value and what is allowed.
+  void check() const;
+};
+
+// The filter's memory of the frames so far, per pixel.
+struct TemporalState {
+  std::vector<float> mean_inverse;
+  std::vector<float> count;
+  std::vector<std::uint32_t> previous_colour;  // packed RGB
+  bool started = false;
+};
+
+// One frame through the filter, in place: `distance` (metres, 0 = none) becomes the filtered
+// distance; `colour` is the frame's colour panorama. Float arithmetic in the kernel's order.
+void temporal_filter_cpu(TemporalState& state, FloatImage& distance, const Rgb8Image& colour,
+                         const TemporalOptions& options);
+
+class TemporalFilter {
+ public:
+  TemporalFilter(gpu::Context& context, int width, int height, const TemporalOptions& options);
+
+  // Records the filter into `seq` (after what writes `distance` and `colour`, panorama-sized
+  // floats and packed RGB): `distance` is filtered in place.
+  void record(gpu::Sequence& seq, gpu::Buffer& distance, const gpu::Buffer& colour);
+  // The next frame starts the filter again everywhere.
+  void reset() { started_ = false; }
+  const TemporalOptions& options() const { return options_; }
+
+ private:
+  TemporalOptions options_;
+  std::uint32_t width_, height_, pixels_;
+  gpu::Buffer mean_inverse_;
+  gpu::Buffer count_;
+  gpu::Buffer previous_colour_;
+  gpu::Buffer changed_;
+  gpu::Kernel changes_;
+  gpu::Kernel filter_;
+  bool started_ = false;
+};
+
+}  // namespace omnisweep::stitch

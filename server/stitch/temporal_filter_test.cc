@@ -1,0 +1,149 @@
+// The temporal filter: the GPU kernels against the plain C++ version frame by frame, and what it
+// promises: less flicker on a static noisy panorama, a restart where colour or distance moves,
+// everywhere when the whole view moves, and nothing at all with one frame.
+#include "server/stitch/temporal_filter.h"
+
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "tests/support/gpu_test_support.h"
+#include "tests/support/test_support.h"
+
+namespace omnisweep::stitch {
+namespace {
+
+using TemporalFilterTest = omnisweep::testing::ValidatedGpuTest;
+
+constexpr int kW = 64, kH = 32;
+
+// A static scene (inverse distance 0.2-1.2 over x) seen with noise `sigma` (1/m) in the
+// distance and +-2 levels in the colour, frame `f`; a hole (no value) at one pixel.
+std::pair<FloatImage, Rgb8Image> noisy_frame(int f, double sigma) {
+  std::mt19937 rng(1000 + f);
+  std::normal_distribution<float> noise(0.0f, float(sigma));
+  std::uniform_int_distribution<int> jitter(-2, 2);
+  FloatImage distance(kW, kH, 1);
+  Rgb8Image colour(kW, kH, 3);
+  for (int y = 0; y < kH; ++y) {
+    for (int x = 0; x < kW; ++x) {
+      const int i = y * kW + x;
+      distance.data()[i] = 1.0f / (0.2f + float(x) / kW + noise(rng));
+      for (int c = 0; c < 3; ++c)
+        colour.data()[3 * i + c] =
+            std::uint8_t(std::clamp(60 + 2 * x + 30 * c + jitter(rng), 0, 255));
+    }
+  }
+  distance.data()[5] = 0.0f;
+  return {std::move(distance), std::move(colour)};
+}
+
+std::vector<std::uint32_t> packed(const Rgb8Image& rgb) {
+  std::vector<std::uint32_t> out(rgb.size() / 3);
+  for (std::size_t i = 0; i < out.size(); ++i)
+    out[i] = rgb.data()[3 * i] | rgb.data()[3 * i + 1] << 8 | rgb.data()[3 * i + 2] << 16;
+  return out;
+}
+
+double flicker(const std::vector<FloatImage>& frames) {
+  double sum = 0;
+  long n = 0;
+  for (std::size_t f = 1; f < frames.size(); ++f) {
+    for (std::size_t i = 0; i < frames[f].size(); ++i) {
+      const float a = frames[f].data()[i], b = frames[f - 1].data()[i];
+      if (a > 0 && b > 0) sum += std::abs(1.0 / a - 1.0 / b), ++n;
+    }
+  }
+  return sum / double(n);
+}
+
+TEST_F(TemporalFilterTest, EqualsCpuAndStopsFlicker) {
+  const TemporalOptions options;
+  TemporalFilter filter(context(), kW, kH, options);
+  TemporalState state;
+  gpu::Buffer distance(context(), kW * kH * 4), colour(context(), kW * kH * 4);
+  gpu::Sequence seq(context());
+  std::vector<FloatImage> raw, filtered;
+  double worst = 0;
+  for (int f = 0; f < 10; ++f) {
+    auto [d, c] = noisy_frame(f, 0.02);
+    if (f == 6) {  // something moves in depth in one column and in colour in another
+      for (int y = 0; y < kH; ++y) d.data()[y * kW + 40] = 1.0f / 3.0f;
+      for (int y = 0; y < kH; ++y) c.data()[3 * (y * kW + 50)] = 255;
+    }
+    raw.push_back(d.clone());
+    distance.upload(d.data(), d.size() * 4);
+    colour.upload(std::span<const std::uint32_t>(packed(c)));
+    seq.begin();
+    filter.record(seq, distance, colour);
+    seq.submit_and_wait();
+    FloatImage gpu(kW, kH, 1);
+    distance.download(gpu.data(), gpu.size() * 4);
+    temporal_filter_cpu(state, d, c, options);
+    for (std::size_t i = 0; i < d.size(); ++i) {
+      ASSERT_EQ(gpu.data()[i] > 0, d.data()[i] > 0) << "frame " << f << " pixel " << i;
+      if (d.data()[i] > 0)
+        worst = std::max(worst, double(std::abs(1.0f / gpu.data()[i] - 1.0f / d.data()[i])));
+    }
+    if (f == 6) {
+      for (int y = 0; y < kH; ++y) {  // the moved pixels start again: their new values, unmixed
+        EXPECT_FLOAT_EQ(gpu.data()[y * kW + 40], 1.0f / 3.0f);
+        EXPECT_FLOAT_EQ(gpu.data()[y * kW + 50], raw.back().data()[y * kW + 50]);
+      }
+    }
+    filtered.push_back(std::move(gpu));
+  }
+  std::cout << "temporal filter GPU vs CPU: largest inverse-distance difference " << worst
+            << "; flicker " << flicker(raw) << " -> " << flicker(filtered) << " m^-1\n";
+  EXPECT_LT(worst, 1e-5);
+  EXPECT_LT(flicker(filtered), 0.5 * flicker(raw));
+  EXPECT_EQ(filtered[0].data()[5], 0.0f);  // no value stays no value
+}
+
+TEST_F(TemporalFilterTest, AViewThatMovesStartsAgainEverywhere) {
+  TemporalOptions options;
+  TemporalState state;
+  auto [d0, c0] = noisy_frame(0, 0.0);
+  temporal_filter_cpu(state, d0, c0, options);
+  auto [d1, c1] = noisy_frame(1, 0.0);
+  for (std::size_t i = 0; i < c1.size(); ++i) c1.data()[i] = std::uint8_t(255 - c1.data()[i]);
+  for (std::size_t i = 0; i < d1.size(); ++i)
+    if (d1.data()[i] > 0) d1.data()[i] *= 1.2f;  // within the jump for most pixels
+  const FloatImage expected = d1.clone();
+  temporal_filter_cpu(state, d1, c1, options);
+  for (std::size_t i = 0; i < d1.size(); ++i)
+    ASSERT_FLOAT_EQ(d1.data()[i], expected.data()[i]) << i;
+  for (const float n : state.count) ASSERT_EQ(n, 1.0f);
+}
+
+TEST_F(TemporalFilterTest, OneFrameInTheMeanChangesNothing) {
+  TemporalOptions options;
+  options.max_frames = 1;
+  TemporalState state;
+  for (int f = 0; f < 3; ++f) {
+    auto [d, c] = noisy_frame(f, 0.02);
+    const FloatImage before = d.clone();
+    temporal_filter_cpu(state, d, c, options);
+    for (std::size_t i = 0; i < d.size(); ++i) {
+      if (before.data()[i] > 0) ASSERT_NEAR(1.0 / d.data()[i], 1.0 / before.data()[i], 1e-6) << i;
+    }
+  }
+}
+
+TEST(TemporalOptions, BadOptionsAreNamed) {
+  TemporalOptions options;
+  options.max_frames = 0;
+  EXPECT_NE(testing::error_message<std::invalid_argument>([&] {
+              options.check();
+            }).find("TemporalOptions.max_frames"),
+            std::string::npos);
+  options = {};
+  options.jump = -1;
+  EXPECT_THROW(options.check(), std::invalid_argument);
+  options = {};
+  options.reset_share = 2;
+  EXPECT_THROW(options.check(), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace omnisweep::stitch
