@@ -15,6 +15,9 @@
 // distance of the census bytes (x census_scale); 3, their sum.
 layout(local_size_x_id = 100, local_size_y_id = 101, local_size_z_id = 102) in;
 layout(constant_id = 30) const uint kCost = 0u;
+// DepthOptions::match_cameras: 2 also matches against the second camera (selection plane
+// slots + reference), where there is one, and stores the mean of the two costs.
+layout(constant_id = 31) const uint kCameras = 1u;
 
 #include "camera.glsl"
 #include "pixels.glsl"
@@ -35,6 +38,7 @@ layout(push_constant) uniform Push {
   float inv_d_min;
   float inv_d_max;
   float census_scale;
+  uint slots;           // reference slots in all (the second cameras' planes follow theirs)
   uint references[8];  // the camera of each reference
 } push;
 
@@ -115,6 +119,10 @@ void main() {
   const Camera c = cameras[records + uint(max(selected, 0))];
   const vec3 rotated = vec3(dot(c.row0.xyz, ray), dot(c.row1.xyz, ray), dot(c.row2.xyz, ray));
   const vec3 translation = vec3(c.row0.w, c.row1.w, c.row2.w);
+  const int second = kCameras > 1u ? selection[(push.slots + reference) * plane + pixel] : -1;
+  const Camera c2 = cameras[records + uint(max(second, 0))];
+  const vec3 rotated2 = vec3(dot(c2.row0.xyz, ray), dot(c2.row1.xyz, ray), dot(c2.row2.xyz, ray));
+  const vec3 translation2 = vec3(c2.row0.w, c2.row1.w, c2.row2.w);
   // Pixels that match loop over the candidates, a texel (kPack of them) at a time; the rest
   // (outside the lens or the masks) only store zeros, so a CPU device skips the sweep where a
   // whole vector of pixels has no match.
@@ -122,12 +130,20 @@ void main() {
   uint t = 0u;
   for (; t < matched; ++t) {
 #if VOLUME_PACK == 4
-    const VOLUME_V cost = vec4(candidate_cost(4u * t, c, rotated, translation, selected, reference_texel, step),
-                               candidate_cost(4u * t + 1u, c, rotated, translation, selected, reference_texel, step),
-                               candidate_cost(4u * t + 2u, c, rotated, translation, selected, reference_texel, step),
-                               candidate_cost(4u * t + 3u, c, rotated, translation, selected, reference_texel, step));
+    VOLUME_V cost = vec4(candidate_cost(4u * t, c, rotated, translation, selected, reference_texel, step),
+                         candidate_cost(4u * t + 1u, c, rotated, translation, selected, reference_texel, step),
+                         candidate_cost(4u * t + 2u, c, rotated, translation, selected, reference_texel, step),
+                         candidate_cost(4u * t + 3u, c, rotated, translation, selected, reference_texel, step));
+    if (second >= 0) {
+      cost = 0.5 * (cost + vec4(candidate_cost(4u * t, c2, rotated2, translation2, second, reference_texel, step),
+                                candidate_cost(4u * t + 1u, c2, rotated2, translation2, second, reference_texel, step),
+                                candidate_cost(4u * t + 2u, c2, rotated2, translation2, second, reference_texel, step),
+                                candidate_cost(4u * t + 3u, c2, rotated2, translation2, second, reference_texel, step)));
+    }
 #else
-    const VOLUME_V cost = candidate_cost(t, c, rotated, translation, selected, reference_texel, step);
+    VOLUME_V cost = candidate_cost(t, c, rotated, translation, selected, reference_texel, step);
+    if (second >= 0)
+      cost = 0.5 * (cost + candidate_cost(t, c2, rotated2, translation2, second, reference_texel, step));
 #endif
     volume[t / kTexels].v[volume_index(slot, t % kTexels, plane, pixel)] = VOLUME_T(cost);
   }

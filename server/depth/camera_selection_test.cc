@@ -27,9 +27,11 @@ void expect_selection_matches(gpu::Context& context, const Rig& rig,
   const DepthEstimator estimator(context, rig, usable, options);
   for (std::size_t slot = 0; slot < options.references.size(); ++slot) {
     const Image<std::int32_t> gpu = estimator.selection(int(slot));
-    const SelectionReference cpu = select_cameras_cpu(rig, options.references[slot], usable,
-                                                      options.min_distance, options.max_distance);
-    long fragile = 0, mismatched = 0, selected = 0;
+    const Image<std::int32_t> gpu_second = estimator.second_selection(int(slot));
+    const SelectionReference cpu =
+        select_cameras_cpu(rig, options.references[slot], usable, options.min_distance,
+                           options.max_distance, options.second_camera_power);
+    long fragile = 0, mismatched = 0, selected = 0, seconds = 0;
     std::vector<long> per_camera(rig.num_cameras(), 0);
     for (int y = 0; y < gpu.height(); ++y) {
       for (int x = 0; x < gpu.width(); ++x) {
@@ -38,6 +40,8 @@ void expect_selection_matches(gpu::Context& context, const Rig& rig,
           continue;
         }
         mismatched += gpu(x, y) != cpu.selected(x, y);
+        mismatched += gpu_second(x, y) != cpu.second(x, y);
+        seconds += cpu.second(x, y) >= 0;
         if (cpu.selected(x, y) >= 0) ++per_camera[cpu.selected(x, y)], ++selected;
       }
     }
@@ -45,7 +49,8 @@ void expect_selection_matches(gpu::Context& context, const Rig& rig,
               << " pixels matched (";
     for (int c = 0; c < rig.num_cameras(); ++c)
       std::cout << (c ? ", " : "") << "cam" << c << " " << per_camera[c];
-    std::cout << "), " << fragile << " fragile, " << mismatched << " mismatched\n";
+    std::cout << "), " << seconds << " with a second camera, " << fragile << " fragile, "
+              << mismatched << " mismatched\n";
     EXPECT_EQ(mismatched, 0);
     EXPECT_LT(double(fragile) / gpu.size(), 0.01);
     EXPECT_GT(selected, gpu.size() / 3);
@@ -74,12 +79,14 @@ float half_rounding(float v) {
   return a < 6.1e-5f ? 3e-8f : std::ldexp(1.0f, int(std::floor(std::log2(a))) - 11);
 }
 
+// With match_cameras = 2 the CPU's cost is the mean of the two cameras' where there is a second.
 TEST_F(DepthKernelTest, SweepCostEqualsCpu) {
   const auto scene = fixtures::render_depth_case(128);
-  for (const bool half : {false, true}) {
+  for (const auto [half, cameras] : {std::pair{false, 1}, {true, 1}, {false, 2}}) {
     DepthOptions options;
     options.matching_width = options.matching_height = 128;
     options.half_costs = half;
+    options.match_cameras = cameras;
     DepthEstimator estimator(context(), scene.rig.rig(), scene.usable, options);
     if (half && !estimator.volume_layout().half) {
       std::cout << "the device stores no 16-bit floats: 16-bit costs not checked\n";
@@ -89,11 +96,19 @@ TEST_F(DepthKernelTest, SweepCostEqualsCpu) {
     for (std::size_t slot = 0; slot < 2; ++slot) {
       const std::vector<float> gpu = estimator.cost_volume(images, int(slot), false);
       const Image<std::int32_t> selected = estimator.selection(int(slot));
+      const Image<std::int32_t> second = estimator.second_selection(int(slot));
       std::vector<float> differences;
+      long averaged = 0;
       for (int y = 0; y < 128; y += 3) {
         for (int x = 0; x < 128; x += 3) {
-          const auto cpu = sweep_cost_cpu(scene.rig.rig(), options.references[slot], selected(x, y),
-                                          images, options, x, y);
+          auto cpu = sweep_cost_cpu(scene.rig.rig(), options.references[slot], selected(x, y),
+                                    images, options, x, y);
+          if (cameras == 2 && second(x, y) >= 0) {
+            const auto other = sweep_cost_cpu(scene.rig.rig(), options.references[slot],
+                                              second(x, y), images, options, x, y);
+            for (int i = 0; i < options.num_candidates; ++i) cpu[i] = 0.5f * (cpu[i] + other[i]);
+            ++averaged;
+          }
           for (int i = 0; i < options.num_candidates; ++i) {
             const float d =
                 std::abs(cpu[i] - gpu[(std::size_t(y) * 128 + x) * options.num_candidates + i]);
@@ -104,8 +119,10 @@ TEST_F(DepthKernelTest, SweepCostEqualsCpu) {
       }
       std::sort(differences.begin(), differences.end());
       const float p99 = differences[differences.size() * 99 / 100], worst = differences.back();
-      std::cout << (half ? "16-bit" : "32-bit") << " sweep cost vs CPU: 99th percentile difference "
-                << p99 << ", largest " << worst << "\n";
+      std::cout << (half ? "16-bit" : "32-bit") << ", " << cameras
+                << " camera(s): sweep cost vs CPU: 99th percentile difference " << p99
+                << ", largest " << worst << " (" << averaged << " pixels averaged)\n";
+      if (cameras == 2) EXPECT_GT(averaged, 100);
       EXPECT_LT(p99, 0.05f);    // float vs double projection moves a tap by ~1e-4 px
       EXPECT_LT(worst, 20.0f);  // at most a pixel-boundary tap flip at a strong edge
     }

@@ -13,6 +13,8 @@ using gpu::BindingSlot;
 struct SelectionPush {
   std::uint32_t width, height, num_cameras, reference, slot;
   float d_min, d_max;
+  std::uint32_t slots;
+  float second_power;
 };
 struct GuidePush {
   std::uint32_t width, height;
@@ -26,6 +28,7 @@ struct FeaturesPush {
 struct SweepPush {
   std::uint32_t width, height, num_cameras, first, num_candidates;
   float inv_d_min, inv_d_max, census_scale;
+  std::uint32_t slots;
   std::uint32_t references[kMaxReferences];
 };
 struct WtaPush {
@@ -41,10 +44,13 @@ gpu::KernelLayout with_rig_model(gpu::KernelLayout layout, const Rig& rig) {
   return layout;
 }
 
-// The sweep's layout: the camera model's constants and the matching cost (constant 30).
-gpu::KernelLayout sweep_layout(gpu::KernelLayout layout, const Rig& rig, MatchingCost cost) {
+// The sweep's layout: the camera model's constants, the matching cost (constant 30) and the
+// cameras matched (31).
+gpu::KernelLayout sweep_layout(gpu::KernelLayout layout, const Rig& rig,
+                               const DepthOptions& options) {
   layout = with_rig_model(std::move(layout), rig);
-  layout.constants.push_back(gpu::SpecConstant::of(30, std::uint32_t(cost)));
+  layout.constants.push_back(gpu::SpecConstant::of(30, std::uint32_t(options.cost)));
+  layout.constants.push_back(gpu::SpecConstant::of(31, std::uint32_t(options.match_cameras)));
   return layout;
 }
 
@@ -118,7 +124,7 @@ DepthEstimator::DepthEstimator(gpu::Context& context, const Rig& rig,
                     sweep_layout(volume_kernel_layout({reproject::camera_binding(),
                                                        BindingSlot::texels(), 1, kMaxChunks},
                                                       sizeof(SweepPush), layout_),
-                                 rig, options.cost)),
+                                 rig, options)),
       wta_kernel_(
           context, volume_shader("winner_take_all", layout_, /*stores=*/false),
           volume_kernel_layout({BindingSlot::texels(kMaxChunks), 1, 1}, sizeof(WtaPush), layout_)),
@@ -132,7 +138,8 @@ DepthEstimator::DepthEstimator(gpu::Context& context, const Rig& rig,
       guide_(context, std::uint64_t(width_) * height_ * 4 * slots()),
       dummy_(context, 16),
       cameras_(context, slots() * rig.num_cameras() * sizeof(reproject::GpuCamera)),
-      selections_(context, std::uint64_t(width_) * height_ * sizeof(std::int32_t) * slots()),
+      // Per slot its selection plane, then per slot its second cameras' plane.
+      selections_(context, std::uint64_t(width_) * height_ * sizeof(std::int32_t) * 2 * slots()),
       distances_(context, width_, height_, VolumeLayout{1, 1, false, int(slots())}),
       confidences_(context, std::uint64_t(width_) * height_ * sizeof(float) * slots()),
       sequence_(context) {
@@ -171,7 +178,8 @@ DepthEstimator::DepthEstimator(gpu::Context& context, const Rig& rig,
         selection_kernel_, {cameras_, masks, selections_},
         SelectionPush{std::uint32_t(width_), std::uint32_t(height_),
                       std::uint32_t(rig.num_cameras()), std::uint32_t(options.references[slot]),
-                      slot, float(options.min_distance), float(options.max_distance)},
+                      slot, float(options.min_distance), float(options.max_distance), slots(),
+                      float(options.second_camera_power)},
         selection_kernel_.groups_for(width_, height_));
   }
   sequence_.submit_and_wait();
@@ -234,6 +242,7 @@ void DepthEstimator::record_group(gpu::Sequence& seq, int first, bool filter, bo
                   inv_d_min,
                   inv_d_max,
                   float(options_.census_scale),
+                  slots(),
                   {}};
   set_references(sweep, options_.references);
   seq.dispatch(sweep_kernel_,
@@ -323,6 +332,14 @@ Image<std::int32_t> DepthEstimator::selection(int slot) const {
   Image<std::int32_t> out(width_, height_, 1);
   const std::size_t bytes = out.size() * sizeof(std::int32_t);
   selections_.download(out.data(), bytes, std::size_t(slot) * bytes);
+  return out;
+}
+
+Image<std::int32_t> DepthEstimator::second_selection(int slot) const {
+  if (slot < 0 || slot >= int(slots())) throw std::out_of_range("no such reference slot");
+  Image<std::int32_t> out(width_, height_, 1);
+  const std::size_t bytes = out.size() * sizeof(std::int32_t);
+  selections_.download(out.data(), bytes, (std::size_t(slots()) + slot) * bytes);
   return out;
 }
 

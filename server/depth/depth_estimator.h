@@ -55,6 +55,8 @@ class DepthEstimator {
   // (-1 = none), and the cost volume of the last uploaded images, raw or ISB-filtered, as
   // out[p * N + i].
   Image<std::int32_t> selection(int slot) const;
+  // The second camera of each pixel (DepthOptions::match_cameras = 2; -1 = none).
+  Image<std::int32_t> second_selection(int slot) const;
   std::vector<float> cost_volume(const std::vector<const Rgb8Image*>& images, int slot,
                                  bool filtered);
   // With a robust cost: camera `camera`'s matching features, as the last cost_volume() or

@@ -51,6 +51,11 @@ struct DepthOptions {
   // Estimate each camera's gain, colour cast and vignetting from the overlaps and undo them before
   // matching and stitching (photometric_model.h).
   bool correct_photometry = false;
+  // Cameras each reference pixel is matched against: 1, the paper's (the camera with the longest
+  // epipolar segment); 2, also the camera with the next longest, where it is at least
+  // second_camera_power times as long, the two costs averaged (docs/accuracy.md).
+  int match_cameras = 1;
+  double second_camera_power = 0.5;
   // The features of the other costs, at 1024 px (scaled with the matching width).
   int feature_radius = 3;        // normalisation window: (2 r + 1)^2 pixels
   double feature_epsilon = 4.0;  // added to the window's deviation, 8-bit levels

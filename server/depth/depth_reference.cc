@@ -47,9 +47,10 @@ std::uint32_t round_pack(const std::array<float, 3>& v) {
 
 SelectionReference select_cameras_cpu(const Rig& rig, int reference,
                                       const std::vector<std::optional<Gray8Image>>& usable,
-                                      double d_min, double d_max) {
+                                      double d_min, double d_max, double second_power) {
   const RigCamera& ref = rig.cameras[reference];
   SelectionReference out{Image<std::int32_t>(ref.width, ref.height, 1, -1),
+                         Image<std::int32_t>(ref.width, ref.height, 1, -1),
                          Image<std::uint8_t>(ref.width, ref.height, 1, 0)};
   for (int y = 0; y < ref.height; ++y) {
     for (int x = 0; x < ref.width; ++x) {
@@ -59,8 +60,9 @@ SelectionReference select_cameras_cpu(const Rig& rig, int reference,
       if (!ref.model.unproject(Eigen::Vector2d(x, y), &ray)) continue;
       if (std::abs(std::acos(std::clamp(ray.z(), -1.0, 1.0)) - ref.model.max_angle()) < 1e-4)
         fragile = true;
-      double best = 1.0, second = 0.0;
-      int chosen = -1;
+      // The longest, the next longest and the one after (for ties), each over 1 px.
+      double best = 1.0, second = 1.0, third = 1.0;
+      int chosen = -1, chosen_second = -1;
       for (int c = 0; c < rig.num_cameras(); ++c) {
         if (c == reference) continue;
         const RigCamera& cam = rig.cameras[c];
@@ -82,15 +84,26 @@ SelectionReference select_cameras_cpu(const Rig& rig, int reference,
         const double displacement = (far_uv - near_uv).norm();
         if (std::abs(displacement - 1.0) < 1e-3) fragile = true;
         if (displacement > best) {
-          second = std::max(second, best);
+          third = second;
+          second = best;
+          chosen_second = chosen;
           best = displacement;
           chosen = c;
+        } else if (displacement > second) {
+          third = second;
+          second = displacement;
+          chosen_second = c;
         } else {
-          second = std::max(second, displacement);
+          third = std::max(third, displacement);
         }
       }
       if (chosen >= 0 && best - second < 1e-3) fragile = true;
+      if (chosen_second >= 0 &&
+          (second - third < 1e-3 || std::abs(second - second_power * best) < 1e-3))
+        fragile = true;
+      if (second < second_power * best) chosen_second = -1;
       out.selected(x, y) = chosen;
+      out.second(x, y) = chosen_second;
       out.fragile(x, y) = fragile ? 1 : 0;
     }
   }

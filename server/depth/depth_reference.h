@@ -15,8 +15,12 @@ namespace omnisweep::depth {
 
 struct SelectionReference {
   Image<std::int32_t> selected;  // -1 = none
+  // The camera with the next longest segment, where it is at least second_power times the
+  // longest (DepthOptions::match_cameras = 2); -1 = none.
+  Image<std::int32_t> second;
   // 1 where the decision is within rounding of a tie or a boundary (two cameras within 1e-3 px
-  // of displacement, displacement within 1e-3 px of the 1 px threshold, a projection within
+  // of displacement, displacement within 1e-3 px of the 1 px threshold or of second_power times
+  // the longest, a projection within
   // 2e-4 px of a pixel-rounding boundary, a ray within 1e-4 rad of a lens' valid cone); float
   // and double may then legitimately differ.
   Image<std::uint8_t> fragile;
@@ -25,7 +29,7 @@ struct SelectionReference {
 // ALGORITHM.md §3 step 2 in double precision; `usable` as for DepthEstimator.
 SelectionReference select_cameras_cpu(const Rig& rig, int reference,
                                       const std::vector<std::optional<Gray8Image>>& usable,
-                                      double d_min, double d_max);
+                                      double d_min, double d_max, double second_power = 0.5);
 
 // The N matching costs of reference pixel (x, y) (ALGORITHM.md §3 step 3).
 std::vector<float> sweep_cost_cpu(const Rig& rig, int reference, int selected,

@@ -10,6 +10,7 @@
 #include "server/depth/depth_reference.h"
 #include "server/depth/photometric_model.h"
 #include "tests/support/gpu_test_support.h"
+#include "tests/support/test_support.h"
 
 namespace omnisweep::depth {
 namespace {
@@ -188,6 +189,15 @@ TEST(MatchingCostOptions, NamesRoundTripAndBadValuesAreNamed) {
   }
   options = {};
   options.feature_epsilon = 0;
+  EXPECT_THROW(options.check(4), std::invalid_argument);
+  options = {};
+  options.match_cameras = 3;
+  EXPECT_NE(omnisweep::testing::error_message<std::invalid_argument>([&] {
+              options.check(4);
+            }).find("match-cameras: 3"),
+            std::string::npos);
+  options = {};
+  options.second_camera_power = 0;
   EXPECT_THROW(options.check(4), std::invalid_argument);
 }
 

@@ -39,13 +39,17 @@ struct Variant {
   const char* name;
   depth::MatchingCost cost;
   bool correct_photometry;
+  int match_cameras = 1;
 };
 
 constexpr Variant kVariants[] = {
     {"paper (ad)", depth::MatchingCost::kAbsoluteDifference, false},
     {"ad + photometric correction", depth::MatchingCost::kAbsoluteDifference, true},
+    {"ad, 2 cameras", depth::MatchingCost::kAbsoluteDifference, false, 2},
+    {"ad + correction, 2 cameras", depth::MatchingCost::kAbsoluteDifference, true, 2},
     {"nad", depth::MatchingCost::kNormalised, false},
     {"nad + photometric correction", depth::MatchingCost::kNormalised, true},
+    {"nad, 2 cameras", depth::MatchingCost::kNormalised, false, 2},
     {"census", depth::MatchingCost::kCensus, false},
     {"nad-census", depth::MatchingCost::kNormalisedCensus, false},
 };
@@ -115,6 +119,7 @@ Row run(gpu::Context& context, const AccuracySet& set, const Variant& variant,
   depth_options.references = set.references;
   depth_options.cost = variant.cost;
   depth_options.correct_photometry = variant.correct_photometry;
+  depth_options.match_cameras = variant.match_cameras;
   if (options.resolution > 0)
     depth_options.matching_width = depth_options.matching_height = options.resolution;
   const Rig matching_rig =

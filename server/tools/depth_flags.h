@@ -27,6 +27,14 @@ inline void add_matching_cost_flags(CLI::App& app, depth::DepthOptions& options)
   app.add_flag("--correct-photometry", options.correct_photometry,
                "Estimate each camera's gain, colour cast and vignetting from what the cameras see "
                "in common, and undo them before matching and stitching");
+  app.add_option("--match-cameras", options.match_cameras,
+                 "Cameras each reference pixel is matched against: 1 (the paper's) or 2 (also the "
+                 "next most discriminating camera, the costs averaged)")
+      ->check(CLI::Range(1, 2));
+  app.add_option("--second-camera-power", options.second_camera_power,
+                 "With --match-cameras 2: the second camera's epipolar segment must be at least "
+                 "this share of the first's")
+      ->check(CLI::Range(0.01, 1.0));
   app.add_option("--feature-radius", options.feature_radius,
                  "Normalisation window radius of nad, pixels at 1024 px")
       ->check(CLI::Range(1, 16));

@@ -190,8 +190,11 @@ int run(int argc, char** argv) {
                                                   frame.ground_truth->inverse_distance);
           totals["ause"] += sparsification->ause;
           totals["mae_at_80"] += sparsification->mae_at_80;
-          write_png(fs::path(output_dir) / ("sparsification_" + frame.name + ".png"),
-                    tools::plot_sparsification(*sparsification, "frame " + frame.name));
+          write_png(
+              fs::path(output_dir) / ("sparsification_" + frame.name + ".png"),
+              tools::plot_sparsification(
+                  *sparsification, fs::path(dataset_dir).lexically_normal().filename().string() +
+                                       ", frame " + frame.name));
           if (previous) {
             flicker = stitch::flicker(previous->first, inverse, previous->second,
                                       frame.ground_truth->inverse_distance);
