@@ -223,6 +223,18 @@ TEST_F(ClientTest, ConfidenceReachesThoseWhoAskAndNoOneElse) {
   EXPECT_EQ(read_gray8_image(out / "panorama_confidence.png").width(), 256);
 }
 
+// Bad subscriber options are options errors naming the field, before any DDS entity exists.
+TEST(SubscriberOptions, BadOptionsAreNamed) {
+  client::SubscriberOptions options;
+  options.stall_after_s = -2;
+  EXPECT_EQ(testing::error_message<std::invalid_argument>(
+                [&] { client::RgbdSubscriber subscriber(options); }),
+            "SubscriberOptions.stall_after_s = -2: must be a positive number of seconds");
+  options = {};
+  options.profile.clear();
+  EXPECT_THROW(options.check(), std::invalid_argument);
+}
+
 TEST_F(ClientTest, ViewWithoutAServerTimesOutWithAClearError) {
   std::string log;
   const auto start = std::chrono::steady_clock::now();

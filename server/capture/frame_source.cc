@@ -1,5 +1,7 @@
 #include <chrono>
+#include <cmath>
 
+#include "omnisweep/options/option_error.h"
 #include "server/capture/sources.h"
 
 namespace omnisweep::capture {
@@ -28,7 +30,16 @@ void stamp_all_cameras(CapturedFrame& frame, std::vector<CameraStatus>& status) 
   }
 }
 
+void SourceOptions::check() const {
+  if (synthetic_poses < 1 || synthetic_poses > 100000)
+    throw option_error("SourceOptions", "synthetic_poses", synthetic_poses, "within [1, 100000]");
+  if (!(camera_timeout_s > 0) || !std::isfinite(camera_timeout_s))
+    throw option_error("SourceOptions", "camera_timeout_s", camera_timeout_s,
+                       "a positive number of seconds");
+}
+
 std::unique_ptr<FrameSource> open_source(const std::string& spec, const SourceOptions& options) {
+  options.check();
   if (spec == "synthetic") return open_synthetic_source(options);
   const std::size_t colon = spec.find(':');
   const std::string kind = spec.substr(0, colon);

@@ -64,6 +64,8 @@ struct SourceOptions {
   std::string calibration;        // basalt JSON; required by video, v4l2 and gst
   int synthetic_poses = 30;       // distinct synthetic frames, spread over the rig's 300-frame loop
   double camera_timeout_s = 2.0;  // a camera silent this long counts as not delivering
+  // Throws std::invalid_argument naming the field, its value and what is allowed.
+  void check() const;
 };
 
 // Opens the source named by `spec`; throws SourceError naming what failed (unknown kind,

@@ -1,7 +1,9 @@
 #include "omnisweep/client/rgbd_subscriber.h"
 
 #include <algorithm>
+#include <cmath>
 
+#include "omnisweep/options/option_error.h"
 #include "omnisweep/time/clock.h"
 #include "omnisweep/wire/wire.h"
 
@@ -27,6 +29,16 @@ const char* to_string(ConnectionState state) {
   return "unknown";
 }
 
+void SubscriberOptions::check() const {
+  if (!(stall_after_s > 0) || !std::isfinite(stall_after_s))
+    throw option_error("SubscriberOptions", "stall_after_s", stall_after_s,
+                       "a positive number of seconds");
+  if (profile.empty())
+    throw std::invalid_argument(
+        "SubscriberOptions.profile is empty: must be \"live\", "
+        "\"reliable\" or a data_reader profile of the QoS file");
+}
+
 StreamInfo stream_info_from(const msg::StreamDescription& d) {
   StreamInfo info;
   info.topic_prefix = d.topic_prefix();
@@ -45,7 +57,7 @@ StreamInfo stream_info_from(const msg::StreamDescription& d) {
 
 RgbdSubscriber::RgbdSubscriber(const SubscriberOptions& options, FrameCallback on_frame)
     : options_(options), callback_(std::move(on_frame)) {
-  if (!(options.stall_after_s > 0)) throw dds::DdsError("stall_after_s must be positive");
+  options.check();
   dds::StreamCallbacks callbacks;
   callbacks.frame = [this](const msg::RgbdFrame& m) { this->on_frame(m); };
   callbacks.description = [this](const msg::StreamDescription& m) { on_description(m); };

@@ -94,15 +94,6 @@ std::vector<WarpLayer> checked(std::vector<WarpLayer> layers, const WarpOptions&
 
 }  // namespace
 
-std::invalid_argument option_error(std::string_view owner, std::string_view field, double value,
-                                   std::string_view allowed) {
-  char text[32];  // to_chars: the shortest form that reads back ("0.5", not "0.500000")
-  char* end = std::to_chars(text, text + sizeof(text), value).ptr;
-  return std::invalid_argument(std::string(owner) + "." + std::string(field) + " = " +
-                               std::string(text, std::size_t(end - text)) + ": must be " +
-                               std::string(allowed));
-}
-
 void check_warp_range(std::string_view owner, double min_distance, double max_distance,
                       int inpaint_passes) {
   if (!(min_distance > 0) || !std::isfinite(min_distance))

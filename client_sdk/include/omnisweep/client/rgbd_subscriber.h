@@ -82,6 +82,10 @@ struct SubscriberOptions {
   double stall_after_s = 2.0;
   // Also read <prefix>/confidence and attach each frame's confidence (RgbdFrame::confidence).
   bool confidence = false;
+
+  // Throws std::invalid_argument naming the field, its value and what is allowed (the
+  // participant's options throw dds::DdsError from ParticipantOptions::check).
+  void check() const;
 };
 
 struct SubscriberStats {

@@ -25,14 +25,13 @@
 #include "omnisweep/gpu/kernel.h"
 #include "omnisweep/gpu/sequence.h"
 #include "omnisweep/image/image.h"
+#include "omnisweep/options/option_error.h"
 #include "omnisweep/reproject/gpu_camera.h"
 
 namespace omnisweep::reproject {
 
-// The error of an option: "<owner>.<field> = <value>: must be <allowed>" (the value in its
-// shortest form). The options' check()s throw it.
-std::invalid_argument option_error(std::string_view owner, std::string_view field, double value,
-                                   std::string_view allowed);
+// The options' check()s throw omnisweep::option_error (omnisweep/options/option_error.h).
+using omnisweep::option_error;
 // The distance range and inpainting passes, which WarpOptions and the options that make one
 // (StitchOptions) share; throws option_error naming `owner`.
 void check_warp_range(std::string_view owner, double min_distance, double max_distance,
