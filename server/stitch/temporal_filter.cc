@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include "omnisweep/reproject/forward_warp.h"
+#include "omnisweep/reproject/gpu_camera.h"
 
 namespace omnisweep::stitch {
 namespace {
@@ -52,11 +53,8 @@ void temporal_filter_cpu(TemporalState& state, FloatImage& distance, const Rgb8I
   const std::size_t n = distance.size();
   if (colour.width() != distance.width() || colour.height() != distance.height())
     throw std::invalid_argument("temporal filter: colour and distance differ in size");
-  std::vector<std::uint32_t> packed(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    packed[i] = std::uint32_t(colour.data()[3 * i]) | std::uint32_t(colour.data()[3 * i + 1]) << 8 |
-                std::uint32_t(colour.data()[3 * i + 2]) << 16;
-  }
+  std::vector<std::uint32_t> packed(n);  // as the kernels read colour (alpha is not compared)
+  reproject::pack_rgba8(colour, packed);
   if (state.mean_inverse.size() != n) {
     state = {std::vector<float>(n, 0.0f), std::vector<float>(n, 0.0f),
              std::vector<std::uint32_t>(n, 0u), false};

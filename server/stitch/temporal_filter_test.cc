@@ -7,6 +7,7 @@
 
 #include <random>
 
+#include "omnisweep/reproject/gpu_camera.h"
 #include "tests/support/gpu_test_support.h"
 #include "tests/support/test_support.h"
 
@@ -40,8 +41,7 @@ std::pair<FloatImage, Rgb8Image> noisy_frame(int f, double sigma) {
 
 std::vector<std::uint32_t> packed(const Rgb8Image& rgb) {
   std::vector<std::uint32_t> out(rgb.size() / 3);
-  for (std::size_t i = 0; i < out.size(); ++i)
-    out[i] = rgb.data()[3 * i] | rgb.data()[3 * i + 1] << 8 | rgb.data()[3 * i + 2] << 16;
+  reproject::pack_rgba8(rgb, out);
   return out;
 }
 
