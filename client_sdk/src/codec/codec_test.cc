@@ -135,6 +135,36 @@ TEST(DistanceCodec, RoundTripsAnyShape) {
   }
 }
 
+// The stored levels are what decode() turns into metres: level l is inverse distance
+// 1/d_max + (l - 1) step, 0 is no value, at the stored (downsampled) size.
+TEST(DistanceCodec, LevelsAreWhatDecodeExpands) {
+  const auto codec = make_distance_codec("qinv16-zstd");
+  const FloatImage d = test_distance(101, 37);
+  for (const DistanceParams params :
+       {DistanceParams{}, DistanceParams{.levels = 2048, .downsample = 4}}) {
+    const Bytes bytes = codec->encode(d, params);
+    const Image<std::uint16_t> levels = codec->decode_levels(bytes, 101, 37, params);
+    const FloatImage metres = codec->decode(bytes, 101, 37, params);
+    const int ds = int(params.downsample);
+    ASSERT_EQ(levels.width(), (101 + ds - 1) / ds);
+    ASSERT_EQ(levels.height(), (37 + ds - 1) / ds);
+    const double lo = 1.0 / params.max_distance, hi = 1.0 / params.min_distance;
+    const double step = (hi - lo) / (params.levels - 1);
+    for (int y = 0; y < 37; ++y)
+      for (int x = 0; x < 101; ++x) {
+        const std::uint16_t l = levels(x / ds, y / ds);
+        ASSERT_LE(l, params.levels);
+        if (l == 0) {
+          ASSERT_EQ(metres(x, y), 0.0f);
+        } else {
+          ASSERT_EQ(metres(x, y), float(1.0 / (lo + (l - 1) * step))) << x << "," << y;
+        }
+      }
+    EXPECT_EQ(levels(3, 3) * (ds == 1), 0);  // the hole, where it is not averaged away
+    EXPECT_THROW(codec->decode_levels(bytes, 100, 37, params), CodecError);
+  }
+}
+
 TEST(DistanceCodec, PreReleasePayloadsAreNamed) {
   const auto codec = make_distance_codec("qinv16-zstd");
   Bytes old = codec->encode(test_distance(64, 48), DistanceParams{});

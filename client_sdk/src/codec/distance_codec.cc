@@ -418,6 +418,51 @@ class QuantisedInverseDistanceCodec final : public DistanceCodec {
 
   FloatImage decode(std::span<const std::uint8_t> payload, int width, int height,
                     const DistanceParams& params) const override {
+    const double lo = 1.0 / params.max_distance, hi = 1.0 / params.min_distance;
+    const double step = (hi - lo) / double(params.levels - 1);
+    std::vector<float> metres(params.levels + 1, 0.0f);
+    for (std::uint32_t level = 1; level <= params.levels; ++level)
+      metres[level] = float(1.0 / (lo + (level - 1) * step));
+    FloatImage out;
+    const int ds = int(params.downsample);
+    const int w = (width + ds - 1) / ds;
+    const std::lock_guard lock(mutex_);
+    const auto allocate = [&] { out = FloatImage(width, height, 1); };
+    decode_bands(payload, width, height, params, allocate, [&](const Band& band) {
+      // Level -> metres by lookup, for the output rows this band covers.
+      for (int y = band.y0 * ds; y < std::min(band.y1 * ds, height); ++y) {
+        const std::uint16_t* row = levels_.data() + std::size_t(y / ds) * w;
+        float* dst = out.data() + std::size_t(y) * width;
+        if (ds == 1) {
+          for (int x = 0; x < width; ++x) dst[x] = metres[row[x]];
+        } else {
+          for (int x = 0; x < width; ++x) dst[x] = metres[row[x / ds]];
+        }
+      }
+    });
+    return out;
+  }
+
+  Image<std::uint16_t> decode_levels(std::span<const std::uint8_t> payload, int width, int height,
+                                     const DistanceParams& params) const override {
+    const int ds = int(params.downsample);
+    const int w = (width + ds - 1) / ds;
+    const std::lock_guard lock(mutex_);
+    decode_bands(
+        payload, width, height, params, [] {}, [](const Band&) {});
+    Image<std::uint16_t> out(w, int(levels_.size() / std::size_t(w)), 1);
+    std::copy(levels_.begin(), levels_.end(), out.data());
+    return out;
+  }
+
+ private:
+  // Checks `payload` and reconstructs its levels into levels_ (stored resolution), band by band
+  // on the band threads: `on_checked()` runs once the header is checked (the sizes are sane),
+  // `on_band(band)` on a band's thread once its rows are in levels_. The caller holds mutex_.
+  template <typename OnChecked, typename OnBand>
+  void decode_bands(std::span<const std::uint8_t> payload, int width, int height,
+                    const DistanceParams& params, const OnChecked& on_checked,
+                    const OnBand& on_band) const {
     params.check();
     if (payload.size() >= 4 && (std::memcmp(payload.data(), "OSQ2", 4) == 0 ||
                                 std::memcmp(payload.data(), "OSQ3", 4) == 0)) {
@@ -462,15 +507,9 @@ class QuantisedInverseDistanceCodec final : public DistanceCodec {
     if (at != payload.size())
       throw CodecError("qinv16-zstd: corrupt payload: " + std::to_string(payload.size() - at) +
                        " bytes after the last band");
-    const double lo = 1.0 / params.max_distance, hi = 1.0 / params.min_distance;
-    const double step = (hi - lo) / double(params.levels - 1);
-    std::vector<float> metres(params.levels + 1, 0.0f);
-    for (std::uint32_t level = 1; level <= params.levels; ++level)
-      metres[level] = float(1.0 / (lo + (level - 1) * step));
-    FloatImage out(width, height, 1);
-    const std::lock_guard lock(mutex_);
     std::vector<std::uint16_t>& q = levels_;
     q.resize(std::size_t(w) * h);
+    on_checked();
     for_each_band(int(bands.size()), [&](int i) {
       const std::size_t n = std::size_t(bands[i].y1 - bands[i].y0) * w;
       // The context streams (at most 2 bytes per sample: 3 per pair, 1 per lone sample), then
@@ -499,18 +538,8 @@ class QuantisedInverseDistanceCodec final : public DistanceCodec {
                          (ZSTD_isError(got) ? ZSTD_getErrorName(got) : "short"));
       }
       reconstruct(streams, lengths[i], w, bands[i], params.levels, scratch, q.data());
-      // Level -> metres by lookup, for the output rows this band covers.
-      for (int y = bands[i].y0 * ds; y < std::min(bands[i].y1 * ds, height); ++y) {
-        const std::uint16_t* row = q.data() + std::size_t(y / ds) * w;
-        float* dst = out.data() + std::size_t(y) * width;
-        if (ds == 1) {
-          for (int x = 0; x < width; ++x) dst[x] = metres[row[x]];
-        } else {
-          for (int x = 0; x < width; ++x) dst[x] = metres[row[x / ds]];
-        }
-      }
+      on_band(bands[i]);
     });
-    return out;
   }
 };
 

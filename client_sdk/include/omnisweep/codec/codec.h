@@ -63,6 +63,11 @@ class DistanceCodec {
   // Throws CodecError unless `payload` holds a width x height map encoded with `params`.
   virtual FloatImage decode(std::span<const std::uint8_t> payload, int width, int height,
                             const DistanceParams& params) const = 0;
+  // The payload's levels as stored (1/downsample of width x height; 0 = no value, level l is
+  // inverse distance 1/d_max + (l - 1) (1/d_min - 1/d_max) / (levels - 1)): what decode()
+  // turns into metres. Same checks and errors as decode().
+  virtual Image<std::uint16_t> decode_levels(std::span<const std::uint8_t> payload, int width,
+                                             int height, const DistanceParams& params) const = 0;
 };
 
 // The per-pixel confidence of a distance panorama, as 8-bit levels (0 = none, 255 = full).
