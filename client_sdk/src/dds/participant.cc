@@ -34,9 +34,23 @@ std::string topic_name(const std::string& prefix, TopicKind kind) {
   return prefix + std::string(topic_spec(kind).suffix);
 }
 
+std::string ros_topic_name(const std::string& ros_namespace, TopicKind kind) {
+  const TopicSpec& spec = topic_spec(kind);
+  if (spec.scope == TopicScope::kStream)
+    throw DdsError("ros_topic_name: " + std::string(spec.suffix) + " is a stream topic");
+  if (spec.scope == TopicScope::kRosRoot || ros_namespace == "/")
+    return "rt" + std::string(spec.suffix);
+  return "rt" + ros_namespace + std::string(spec.suffix);
+}
+
 std::optional<TopicKind> topic_kind_of(std::string_view name) {
+  const bool ros = name.starts_with("rt/");
   for (const TopicSpec& topic : kTopics) {
-    if (name.size() > topic.suffix.size() && name.ends_with(topic.suffix)) return topic.kind;
+    if ((topic.scope != TopicScope::kStream) != ros) continue;
+    if (topic.scope == TopicScope::kRosRoot
+            ? name.substr(2) == topic.suffix
+            : name.size() > topic.suffix.size() && name.ends_with(topic.suffix))
+      return topic.kind;
   }
   return std::nullopt;
 }
@@ -53,8 +67,10 @@ fdds::TypeSupport type_support(TopicKind kind) {
       return fdds::TypeSupport(new msg::ServerStatusPubSubType());
     case TopicKind::kConfidence:
       return fdds::TypeSupport(new msg::ConfidenceFramePubSubType());
+    default:
+      break;
   }
-  throw DdsError("unknown topic kind");
+  throw DdsError("not a stream topic: " + std::string(topic_spec(kind).suffix));
 }
 
 }  // namespace
@@ -148,17 +164,8 @@ Participant::Participant(const ParticipantOptions& options) : options_(options) 
   }
   try {
     for (const TopicSpec& spec : kTopics) {
-      const TopicKind kind = spec.kind;
-      const fdds::TypeSupport type = type_support(kind);
-      if (type.get_type_name() != spec.type_name)
-        throw DdsError("DDS type " + type.get_type_name() + " is not kTopics' " +
-                       std::string(spec.type_name));
-      if (type.register_type(participant_) != ReturnCode_t::RETCODE_OK)
-        throw DdsError("cannot register DDS type " + type.get_type_name());
-      const std::string name = topic_name(options_.topic_prefix, kind);
-      topics_[int(kind)] =
-          participant_->create_topic(name, type.get_type_name(), fdds::TOPIC_QOS_DEFAULT);
-      if (!topics_[int(kind)]) throw DdsError("cannot create DDS topic " + name);
+      if (spec.scope == TopicScope::kStream)
+        add_topic(spec.kind, topic_name(options_.topic_prefix, spec.kind), type_support(spec.kind));
     }
   } catch (...) {
     participant_->delete_contained_entities();
@@ -172,7 +179,28 @@ Participant::~Participant() {
   fdds::DomainParticipantFactory::get_instance()->delete_participant(participant_);
 }
 
-fdds::Topic& Participant::topic(TopicKind kind) const { return *topics_[int(kind)]; }
+fdds::Topic& Participant::topic(TopicKind kind) const {
+  if (!topics_[int(kind)])
+    throw DdsError("topic " + std::string(topic_spec(kind).suffix) + " was not made");
+  return *topics_[int(kind)];
+}
+
+fdds::Topic& Participant::add_topic(TopicKind kind, const std::string& name,
+                                    const fdds::TypeSupport& type) {
+  if (topics_[int(kind)]) return *topics_[int(kind)];
+  const TopicSpec& spec = topic_spec(kind);
+  if (type.get_type_name() != spec.type_name)
+    throw DdsError("DDS type " + type.get_type_name() + " is not kTopics' " +
+                   std::string(spec.type_name));
+  // A type shared by two topics (the ROS images) is registered once.
+  if (!participant_->find_type(type.get_type_name()) &&
+      type.register_type(participant_) != ReturnCode_t::RETCODE_OK)
+    throw DdsError("cannot register DDS type " + type.get_type_name());
+  topics_[int(kind)] =
+      participant_->create_topic(name, type.get_type_name(), fdds::TOPIC_QOS_DEFAULT);
+  if (!topics_[int(kind)]) throw DdsError("cannot create DDS topic " + name);
+  return *topics_[int(kind)];
+}
 
 fdds::Publisher& Participant::publisher() {
   if (!publisher_) {

@@ -31,7 +31,7 @@ StreamPublisher::StreamPublisher(const dds::ParticipantOptions& options,
   fdds::Publisher& publisher = participant_->publisher();
   for (const TopicSpec& topic : kTopics) {
     const TopicKind kind = topic.kind;
-    if (kind == TopicKind::kConfidence && !confidence) continue;
+    if (!is_stream_topic(kind) || (kind == TopicKind::kConfidence && !confidence)) continue;
     const std::string profile =
         topic.writer_profile.empty() ? frame_profile : std::string(topic.writer_profile);
     fdds::DataWriterQos qos;

@@ -42,7 +42,9 @@ StreamRecorder::StreamRecorder(const std::filesystem::path& path, const std::str
   const std::span<const std::uint8_t> idl(reinterpret_cast<const std::uint8_t*>(kIdlText),
                                           std::strlen(kIdlText));
   for (const dds::TopicSpec& topic : dds::kTopics) {
-    if (topic.kind == dds::TopicKind::kConfidence && !confidence) continue;
+    if (!dds::is_stream_topic(topic.kind) ||
+        (topic.kind == dds::TopicKind::kConfidence && !confidence))
+      continue;
     const std::uint16_t schema = writer_.add_schema(std::string(topic.type_name), "omgidl", idl);
     channels_[int(topic.kind)] = writer_.add_channel(
         schema, dds::topic_name(topic_prefix, topic.kind), "cdr", {{"topic_prefix", topic_prefix}});
@@ -109,7 +111,8 @@ std::optional<dds::TopicKind> recorded_topic(const McapReader& reader, const Mca
   const auto schema = reader.schemas().find(channel.schema_id);
   if (schema == reader.schemas().end() || channel.message_encoding != "cdr") return std::nullopt;
   for (const dds::TopicSpec& topic : dds::kTopics)
-    if (schema->second.name == topic.type_name) return topic.kind;
+    if (dds::is_stream_topic(topic.kind) && schema->second.name == topic.type_name)
+      return topic.kind;
   return std::nullopt;
 }
 

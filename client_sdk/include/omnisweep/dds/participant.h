@@ -21,6 +21,7 @@ class DomainParticipant;
 class Publisher;
 class Subscriber;
 class Topic;
+class TypeSupport;
 }  // namespace eprosima::fastdds::dds
 
 namespace omnisweep::dds {
@@ -30,33 +31,72 @@ class DdsError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-enum class TopicKind { kDescription, kFrames, kStatus, kConfidence };
+enum class TopicKind {
+  kDescription,
+  kFrames,
+  kStatus,
+  kConfidence,
+  // ROS 2 topics (docs/ros2.md; their types and writers are omnisweep::ros2's).
+  kRosColor,
+  kRosCompressedDepth,
+  kRosDistance,
+  kRosPoints,
+  kRosTfStatic,
+  kRosDiagnostics,
+};
 
-// A topic of the stream: its name after the prefix, its message type (idl/omnisweep_msgs.idl)
-// and the QoS profiles of its writer and reader (deploy/qos/omnisweep_qos.xml); an empty
-// profile means the frame topic's, which the endpoints choose (live or reliable).
+// Where a topic's name comes from: the stream's prefix ("<prefix>/rgbd"), the ROS namespace
+// ("rt<namespace>/color/image_raw/compressed", rmw_fastrtps' mapping of a ROS topic), or the
+// ROS root ("rt/tf_static").
+enum class TopicScope { kStream, kRosNamespace, kRosRoot };
+
+// A topic: its name after the prefix or namespace, its message type (idl/omnisweep_msgs.idl,
+// idl/ros2/ros2_msgs.idl) and the QoS profiles of its writer and reader
+// (deploy/qos/omnisweep_qos.xml); an empty profile means the frame topic's, which the endpoints
+// choose (live or reliable).
 struct TopicSpec {
   TopicKind kind;
+  TopicScope scope;
   std::string_view suffix;
   std::string_view type_name;
   std::string_view writer_profile;
   std::string_view reader_profile;
 };
-inline constexpr std::array<TopicSpec, 4> kTopics = {{
-    {TopicKind::kDescription, "/description", "omnisweep::msg::StreamDescription",
-     "omnisweep_description", "omnisweep_description"},
-    {TopicKind::kFrames, "/rgbd", "omnisweep::msg::RgbdFrame", "", ""},
-    {TopicKind::kStatus, "/status", "omnisweep::msg::ServerStatus", "omnisweep_status",
-     "omnisweep_status"},
-    {TopicKind::kConfidence, "/confidence", "omnisweep::msg::ConfidenceFrame", "", ""},
+inline constexpr std::array<TopicSpec, 10> kTopics = {{
+    {TopicKind::kDescription, TopicScope::kStream, "/description",
+     "omnisweep::msg::StreamDescription", "omnisweep_description", "omnisweep_description"},
+    {TopicKind::kFrames, TopicScope::kStream, "/rgbd", "omnisweep::msg::RgbdFrame", "", ""},
+    {TopicKind::kStatus, TopicScope::kStream, "/status", "omnisweep::msg::ServerStatus",
+     "omnisweep_status", "omnisweep_status"},
+    {TopicKind::kConfidence, TopicScope::kStream, "/confidence", "omnisweep::msg::ConfidenceFrame",
+     "", ""},
+    {TopicKind::kRosColor, TopicScope::kRosNamespace, "/color/image_raw/compressed",
+     "sensor_msgs::msg::dds_::CompressedImage_", "omnisweep_ros2", "omnisweep_ros2"},
+    {TopicKind::kRosCompressedDepth, TopicScope::kRosNamespace,
+     "/distance/image_raw/compressedDepth", "sensor_msgs::msg::dds_::CompressedImage_",
+     "omnisweep_ros2", "omnisweep_ros2"},
+    {TopicKind::kRosDistance, TopicScope::kRosNamespace, "/distance/image_raw",
+     "sensor_msgs::msg::dds_::Image_", "omnisweep_ros2", "omnisweep_ros2"},
+    {TopicKind::kRosPoints, TopicScope::kRosNamespace, "/points",
+     "sensor_msgs::msg::dds_::PointCloud2_", "omnisweep_ros2", "omnisweep_ros2"},
+    {TopicKind::kRosTfStatic, TopicScope::kRosRoot, "/tf_static", "tf2_msgs::msg::dds_::TFMessage_",
+     "omnisweep_ros2_static", "omnisweep_ros2_static"},
+    {TopicKind::kRosDiagnostics, TopicScope::kRosRoot, "/diagnostics",
+     "diagnostic_msgs::msg::dds_::DiagnosticArray_", "omnisweep_ros2", "omnisweep_ros2"},
 }};
 constexpr const TopicSpec& topic_spec(TopicKind kind) { return kTopics[std::size_t(kind)]; }
-static_assert(topic_spec(TopicKind::kConfidence).kind == TopicKind::kConfidence,
+static_assert(topic_spec(TopicKind::kRosDiagnostics).kind == TopicKind::kRosDiagnostics,
               "kTopics is in TopicKind's order");
+constexpr bool is_stream_topic(TopicKind kind) {
+  return topic_spec(kind).scope == TopicScope::kStream;
+}
 
-// "<prefix>/description", "<prefix>/rgbd", ...
+// A stream topic's name: "<prefix>/description", "<prefix>/rgbd", ...
 std::string topic_name(const std::string& prefix, TopicKind kind);
-// The kind of a full topic name, by its suffix; nullopt for none of the stream's.
+// A ROS 2 topic's DDS name: "rt<ros_namespace><suffix>" or "rt<suffix>" (kRosRoot); the
+// namespace is a valid ROS name (omnisweep::ros2::check_namespace), "/" for none.
+std::string ros_topic_name(const std::string& ros_namespace, TopicKind kind);
+// The kind of a full DDS topic name, by its suffix (and "rt/" for ROS topics); nullopt for none.
 std::optional<TopicKind> topic_kind_of(std::string_view name);
 
 struct ParticipantOptions {
@@ -83,7 +123,14 @@ class Participant {
 
   const ParticipantOptions& options() const { return options_; }
   eprosima::fastdds::dds::DomainParticipant& participant() const { return *participant_; }
+  // The topic of `kind`: the stream's are made by the constructor, a ROS 2 topic by add_topic.
+  // Throws DdsError for a topic not made.
   eprosima::fastdds::dds::Topic& topic(TopicKind kind) const;
+  // Registers `type` (kTopics' type name for `kind`) and makes the topic `name`, once per kind
+  // (a second call returns the first's topic). For the ROS 2 topics, whose types the ros2
+  // module owns. Throws DdsError when Fast DDS refuses.
+  eprosima::fastdds::dds::Topic& add_topic(TopicKind kind, const std::string& name,
+                                           const eprosima::fastdds::dds::TypeSupport& type);
   eprosima::fastdds::dds::Publisher& publisher();    // created on first use
   eprosima::fastdds::dds::Subscriber& subscriber();  // created on first use
 

@@ -1,0 +1,81 @@
+// The ROS 2 topics of a stream (docs/ros2.md), written beside the stream's own on the same DDS
+// participant: the writers exist from the start (ROS tools list the topics), and a frame topic
+// costs nothing until a reader matches it: publish_frame converts only what some reader reads.
+#pragma once
+
+#include <Eigen/Core>
+#include <array>
+#include <atomic>
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "omnisweep/codec/codec.h"
+#include "omnisweep/dds/participant.h"
+#include "omnisweep/geometry/rigid3.h"
+#include "omnisweep/image/image.h"
+#include "omnisweep/ros2/ros_options.h"
+#include "omnisweep_msgs.h"
+
+namespace eprosima::fastdds::dds {
+class DataWriter;
+}  // namespace eprosima::fastdds::dds
+
+namespace omnisweep::ros2 {
+
+// One frame of the stream, as the publisher needs it (views: nothing is copied until a message
+// is made).
+struct FrameInputs {
+  std::uint64_t stamp_ns = 0;              // header.stamp: the capture time (the earliest camera's)
+  int width = 0, height = 0;               // panorama
+  std::span<const std::uint8_t> jpeg;      // the colour payload ("jpeg")
+  std::span<const std::uint8_t> distance;  // the distance payload
+  std::string distance_codec = "qinv16-zstd";
+  codec::DistanceParams distance_params;
+  // The colour the point cloud takes; null: the JPEG is decoded when the points are wanted.
+  const Rgb8Image* color = nullptr;
+  Eigen::Vector3d viewpoint = Eigen::Vector3d::Zero();  // rig frame
+};
+
+class RosPublisher {
+ public:
+  // Makes the ROS topics on `participant` and a writer for each (QoS profiles omnisweep_ros2
+  // and omnisweep_ros2_static). Throws std::invalid_argument for bad options, dds::DdsError when
+  // Fast DDS refuses.
+  RosPublisher(dds::Participant& participant, const RosOptions& options);
+  ~RosPublisher();
+  RosPublisher(const RosPublisher&) = delete;
+  RosPublisher& operator=(const RosPublisher&) = delete;
+
+  const RosOptions& options() const { return options_; }
+  // Readers matched on a ROS topic now.
+  int readers(dds::TopicKind kind) const { return matched_[std::size_t(kind)]; }
+  // True when some reader reads one of the frame topics (images, points).
+  bool wants_frames() const;
+
+  // /tf_static, once (TRANSIENT_LOCAL: late joiners get it).
+  void publish_static(std::uint64_t stamp_ns, const std::vector<Rigid3d>& rig_from_cam,
+                      const Eigen::Vector3d& viewpoint);
+  // The frame topics that have readers. Throws codec::CodecError for a payload that does not
+  // decode, dds::DdsError when Fast DDS refuses a sample.
+  void publish_frame(const FrameInputs& frame);
+  // /diagnostics (name "omnisweep-server: <namespace>").
+  void publish_diagnostics(std::uint64_t stamp_ns, const msg::ServerStatus& status);
+
+ private:
+  class Listener;
+  template <typename Message>
+  void write(dds::TopicKind kind, Message& message);
+
+  dds::Participant* participant_;
+  RosOptions options_;
+  std::unique_ptr<Listener> listener_;
+  std::array<std::atomic<int>, dds::kTopics.size()> matched_{};
+  std::array<eprosima::fastdds::dds::DataWriter*, dds::kTopics.size()> writers_{};
+  std::unique_ptr<codec::DistanceCodec> distance_codec_;
+  std::unique_ptr<codec::ColorCodec> color_codec_;
+};
+
+}  // namespace omnisweep::ros2
