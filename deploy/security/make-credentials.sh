@@ -6,9 +6,10 @@
 #   make-credentials.sh DIR [NAME:ROLE ...]      default: server:server viewer:viewer status:status
 #
 # ROLE is what the identity may do on every topic prefix:
-#   server   publish <prefix>/description, <prefix>/rgbd, <prefix>/status and the optional
-#            <prefix>/confidence (omnisweep-server, omnisweep-play)
-#   viewer   subscribe to all four (omnisweep-view, omnisweep-subscribe, omnisweep-record, SDK apps)
+#   server   publish <prefix>/description, <prefix>/rgbd, <prefix>/status, the optional
+#            <prefix>/confidence and the ROS 2 topics rt/* (omnisweep-server, omnisweep-play)
+#   viewer   subscribe to all of them (omnisweep-view, omnisweep-subscribe, omnisweep-record, SDK
+#            apps, ROS 2 nodes given this identity with SROS2)
 #   status   subscribe to <prefix>/status only (monitoring)
 # Each DIR/NAME/ is a folder to give --security: identity_ca.pem, cert.pem, key.pem (keep it
 # private), permissions_ca.pem, governance.p7s, permissions.p7s. DIR/ca/ keeps the CA; an
@@ -64,6 +65,7 @@ $(topic_rule "*/description")
 $(topic_rule "*/rgbd")
 $(topic_rule "*/status")
 $(topic_rule "*/confidence")
+$(topic_rule "rt/*")
       </topic_access_rules>
     </domain_rule>
   </domain_access_rules>
@@ -75,7 +77,10 @@ openssl smime -sign -text -in "$ca/governance.xml" -out "$ca/governance.p7s" \
 
 topics_xml() {  # <topics> for a space-separated list of expressions
   printf '          <topics>'
-  for t in $1; do printf '<topic>%s</topic>' "$t"; done
+  local t
+  local -a expressions
+  read -r -a expressions <<< "$1"  # split on spaces, no glob expansion of the * patterns
+  for t in "${expressions[@]}"; do printf '<topic>%s</topic>' "$t"; done
   printf '</topics>\n'
 }
 
@@ -84,8 +89,8 @@ for entry in "${identities[@]}"; do
   role=${entry#*:}
   [[ $name =~ ^[A-Za-z0-9_-]+$ ]] || { echo "make-credentials: bad identity name '$name'" >&2; exit 2; }
   case $role in
-    server) rules="          <publish>"$'\n'"$(topics_xml "*/description */rgbd */status */confidence")"$'\n'"          </publish>" ;;
-    viewer) rules="          <subscribe>"$'\n'"$(topics_xml "*/description */rgbd */status */confidence")"$'\n'"          </subscribe>" ;;
+    server) rules="          <publish>"$'\n'"$(topics_xml "*/description */rgbd */status */confidence rt/*")"$'\n'"          </publish>" ;;
+    viewer) rules="          <subscribe>"$'\n'"$(topics_xml "*/description */rgbd */status */confidence rt/*")"$'\n'"          </subscribe>" ;;
     status) rules="          <subscribe>"$'\n'"$(topics_xml "*/status")"$'\n'"          </subscribe>" ;;
     *) echo "make-credentials: unknown role '$role' for $name (server, viewer or status)" >&2; exit 2 ;;
   esac

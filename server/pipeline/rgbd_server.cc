@@ -39,6 +39,7 @@ void ServerOptions::check() const {
   if (jpeg_quality < 1 || jpeg_quality > 100)
     throw std::invalid_argument("JPEG quality must be 1-100");
   distance.check();
+  if (ros2) ros2->check();
 }
 
 // One frame on its way through the pipeline.
@@ -50,6 +51,7 @@ struct RgbdServer::Job {
   stitch::Panorama panorama;
   msg::RgbdFrame message;
   std::optional<msg::ConfidenceFrame> confidence;  // ServerOptions::confidence
+  Rgb8Image ros_color;  // the panorama's colour, kept for the ROS point cloud when it has readers
 };
 
 struct RgbdServer::Stages {
@@ -63,7 +65,7 @@ struct RgbdServer::Stages {
   std::unique_ptr<codec::ConfidenceCodec> confidence_codec;
   FrameBudget budget;  // the colour codec, at the quality the frame budget allows
   msg::StreamDescription description;
-  BoundedQueue<std::shared_ptr<Job>> to_depth{1}, to_encode{2}, to_publish{2};
+  BoundedQueue<std::shared_ptr<Job>> to_depth{1}, to_encode{2}, to_publish{2}, to_ros{1};
 
   Stages(gpu::Context& context, const capture::FrameSource& source, const ServerOptions& o)
       : matching_rig(source.rig().resized(o.depth.matching_width, o.depth.matching_height)),
@@ -113,6 +115,8 @@ RgbdServer::RgbdServer(std::unique_ptr<capture::FrameSource> source, gpu::Contex
   d.distance_params(wire::to_message(options_.distance));
   d.target_fps(float(options_.fps));
   if (!options_.dump_dir.empty()) std::filesystem::create_directories(options_.dump_dir);
+  if (options_.ros2)
+    ros_ = std::make_unique<ros2::RosPublisher>(publisher.participant(), *options_.ros2);
 }
 
 RgbdServer::~RgbdServer() {
@@ -123,6 +127,13 @@ RgbdServer::~RgbdServer() {
 
 void RgbdServer::start() {
   publisher_->publish(stages_->description);
+  if (ros_) {
+    std::vector<Rigid3d> rig_from_cam;
+    for (const auto& camera : source_->rig().cameras) rig_from_cam.push_back(camera.rig_from_cam);
+    ros_->publish_static(wall_clock_ns(), rig_from_cam, stages_->stitcher.viewpoint());
+  } else {
+    ros_ended_ = true;
+  }
   auto spawn = [&](void (RgbdServer::*loop)(), const char* stage,
                    std::atomic<bool>* ended = nullptr) {
     ++running_threads_;
@@ -144,6 +155,7 @@ void RgbdServer::start() {
   spawn(&RgbdServer::gpu_loop, "depth");
   spawn(&RgbdServer::encode_loop, "encode");
   spawn(&RgbdServer::publish_loop, "publish", &publish_ended_);
+  if (ros_) spawn(&RgbdServer::ros_loop, "ros", &ros_ended_);
   spawn(&RgbdServer::status_loop, "status", &status_ended_);
 }
 
@@ -152,6 +164,7 @@ void RgbdServer::request_stop() {
   stages_->to_depth.close();
   stages_->to_encode.close();
   stages_->to_publish.close();
+  stages_->to_ros.close();
   done_.notify_all();
 }
 
@@ -322,6 +335,8 @@ void RgbdServer::encode_loop() {
           .write(reinterpret_cast<const char*>(job.panorama.distance.data()),
                  std::streamsize(job.panorama.distance.size() * sizeof(float)));
     }
+    if (ros_ && ros_->readers(dds::TopicKind::kRosPoints) > 0)
+      job.ros_color = std::move(job.panorama.rgb);
     job.panorama = {};
     add_stage_time("encode", ms_since(start));
     if (stages_->to_publish.push(std::move(*item))) count_drop("network busy");
@@ -341,6 +356,8 @@ void RgbdServer::publish_loop() {
       ++published_window_;
       if (state_ == "starting") state_ = "running";  // the first frame is out
     }
+    if (ros_ && ros_->wants_frames() && stages_->to_ros.push(std::move(*item)))
+      count_drop("ros busy");
     if (++published_ == options_.max_frames && options_.max_frames > 0) {
       finished_ = true;
       done_.notify_all();
@@ -348,8 +365,32 @@ void RgbdServer::publish_loop() {
   }
 }
 
+// The ROS 2 frame topics that have readers (RosPublisher converts only those), from the
+// payloads as published: the same JPEG bytes, the same distance levels.
+void RgbdServer::ros_loop() {
+  while (auto item = stages_->to_ros.pop()) {
+    const Job& job = **item;
+    const msg::RgbdFrame& m = job.message;
+    const auto start = Clock::now();
+    ros2::FrameInputs frame;
+    frame.stamp_ns = job.capture_time_ns.empty() ? job.processing_start_ns
+                                                 : *std::min_element(job.capture_time_ns.begin(),
+                                                                     job.capture_time_ns.end());
+    frame.width = int(m.width());
+    frame.height = int(m.height());
+    frame.jpeg = m.color().data();
+    frame.distance = m.distance().data();
+    frame.distance_codec = m.distance().codec();
+    frame.distance_params = options_.distance;
+    if (!job.ros_color.empty()) frame.color = &job.ros_color;
+    frame.viewpoint = stages_->stitcher.viewpoint();
+    ros_->publish_frame(frame);
+    add_stage_time("ros", ms_since(start));
+  }
+}
+
 msg::ServerStatus RgbdServer::make_status() {
-  static const char* const kStages[] = {"capture", "depth", "stitch", "encode", "publish"};
+  static const char* const kStages[] = {"capture", "depth", "stitch", "encode", "publish", "ros"};
   msg::ServerStatus s;
   s.time_ns(wall_clock_ns());
   s.matched_subscribers(publisher_->frame_subscribers());
@@ -360,6 +401,7 @@ msg::ServerStatus RgbdServer::make_status() {
   captured_window_ = published_window_ = 0;
   std::vector<msg::StageTime> stages;
   for (const char* name : kStages) {
+    if (!ros_ && std::string_view(name) == "ros") continue;
     msg::StageTime t;
     t.stage(name);
     // A server slower than one frame a second finishes no frame in many windows: they carry the
@@ -418,6 +460,7 @@ void RgbdServer::status_loop() {
     for (const auto& h : health) frames_before.push_back(h.frames);
     status.cameras(cameras);
     publisher_->publish(status);
+    if (ros_) ros_->publish_diagnostics(status.time_ns(), status);
     since_log += 1.0;
     if (options_.log_interval_s > 0 && since_log >= options_.log_interval_s) {
       since_log = 0;

@@ -18,6 +18,7 @@
 #include "omnisweep/codec/codec.h"
 #include "omnisweep/dds/stream_publisher.h"
 #include "omnisweep/gpu/context.h"
+#include "omnisweep/ros2/ros_publisher.h"
 #include "server/capture/frame_source.h"
 #include "server/depth/depth_options.h"
 #include "server/pipeline/frame_budget.h"
@@ -42,6 +43,10 @@ struct ServerOptions {
   // Also publish each frame's distance confidence on <prefix>/confidence ("conf8-zstd"), just
   // before the frame; the publisher must have been made with its confidence topic.
   bool confidence = false;
+  // ROS 2 topics beside the stream's (docs/ros2.md); none when unset. A frame topic costs
+  // nothing until a reader matches it; the conversion runs on a thread of its own ("ros"),
+  // which drops frames ("ros busy") rather than slow the stream.
+  std::optional<ros2::RosOptions> ros2;
   // A temporal filter on the distance (stitch/temporal_filter.h); none by default.
   std::optional<stitch::TemporalOptions> temporal;
   bool exit_on_source_end = false;  // else a stalled or ended source is reported and retried
@@ -67,8 +72,8 @@ class RgbdServer {
   // The error that ended the server, if any.
   std::string error() const;
   std::uint64_t frames_published() const { return published_; }
-  // True once the threads that use the publisher (publish, status) have ended.
-  bool publisher_released() const { return publish_ended_ && status_ended_; }
+  // True once the threads that use the publisher (publish, status, ros) have ended.
+  bool publisher_released() const { return publish_ended_ && status_ended_ && ros_ended_; }
 
  private:
   struct Job;
@@ -76,6 +81,7 @@ class RgbdServer {
   void gpu_loop();
   void encode_loop();
   void publish_loop();
+  void ros_loop();
   void status_loop();
   void fail(const std::string& stage, const std::string& what);
   void add_stage_time(const std::string& stage, double ms);
@@ -88,6 +94,7 @@ class RgbdServer {
   ServerOptions options_;
   struct Stages;
   std::unique_ptr<Stages> stages_;
+  std::unique_ptr<ros2::RosPublisher> ros_;  // ServerOptions::ros2
 
   std::atomic<bool> stop_{false};
   std::atomic<bool> finished_{false};
@@ -96,7 +103,7 @@ class RgbdServer {
   std::atomic<std::uint64_t> frames_over_budget_{0};  // even at the floor quality
   std::vector<std::thread> threads_;
   std::atomic<int> running_threads_{0};
-  std::atomic<bool> publish_ended_{false}, status_ended_{false};
+  std::atomic<bool> publish_ended_{false}, status_ended_{false}, ros_ended_{false};
   std::mutex done_mutex_;
   std::condition_variable done_;
 

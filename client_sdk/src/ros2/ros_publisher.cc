@@ -41,6 +41,15 @@ constexpr TopicKind kFrameTopics[] = {TopicKind::kRosColor, TopicKind::kRosCompr
 
 }  // namespace
 
+void add_ros_topics(dds::Participant& participant, const std::string& ros_namespace) {
+  check_namespace(ros_namespace);
+  for (const dds::TopicSpec& spec : dds::kTopics) {
+    if (!dds::is_stream_topic(spec.kind))
+      participant.add_topic(spec.kind, dds::ros_topic_name(ros_namespace, spec.kind),
+                            ros_type(spec.kind));
+  }
+}
+
 class RosPublisher::Listener final : public fdds::DataWriterListener {
  public:
   explicit Listener(RosPublisher& owner) : owner_(owner) {}
@@ -62,11 +71,12 @@ RosPublisher::RosPublisher(dds::Participant& participant, const RosOptions& opti
       distance_codec_(codec::make_distance_codec("qinv16-zstd")),
       color_codec_(codec::make_color_codec("jpeg")) {
   options_.check();
+  add_ros_topics(participant, options_.ros_namespace);
   fdds::Publisher& publisher = participant.publisher();
   for (const dds::TopicSpec& spec : dds::kTopics) {
     if (dds::is_stream_topic(spec.kind)) continue;
     const std::string name = dds::ros_topic_name(options_.ros_namespace, spec.kind);
-    fdds::Topic& topic = participant.add_topic(spec.kind, name, ros_type(spec.kind));
+    fdds::Topic& topic = participant.topic(spec.kind);
     const std::string profile(spec.writer_profile);
     fdds::DataWriterQos qos;
     if (publisher.get_datawriter_qos_from_profile(profile, qos) != ReturnCode_t::RETCODE_OK)
@@ -78,7 +88,9 @@ RosPublisher::RosPublisher(dds::Participant& participant, const RosOptions& opti
                           (participant.options().security_dir.empty()
                                ? std::string()
                                : ": the permissions in " + participant.options().security_dir +
-                                     " do not allow publishing it"));
+                                     " do not allow publishing it (make the credentials again "
+                                     "with deploy/security/make-credentials.sh, or give "
+                                     "--no-ros2)"));
     }
   }
 }

@@ -37,6 +37,8 @@ class StreamPublisher {
 
   // Readers matched on the frame topic.
   int frame_subscribers() const { return matched_; }
+  // The participant it writes on (the ROS 2 topics are written beside the stream's).
+  dds::Participant& participant() { return *participant_; }
 
  private:
   class Listener;

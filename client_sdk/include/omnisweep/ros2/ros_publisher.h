@@ -39,6 +39,10 @@ struct FrameInputs {
   Eigen::Vector3d viewpoint = Eigen::Vector3d::Zero();  // rig frame
 };
 
+// Registers the ROS 2 types and makes every ROS topic of kTopics on `participant` under
+// `ros_namespace` (dds::Participant::topic(kind) then returns them), for writers and readers.
+void add_ros_topics(dds::Participant& participant, const std::string& ros_namespace);
+
 class RosPublisher {
  public:
   // Makes the ROS topics on `participant` and a writer for each (QoS profiles omnisweep_ros2

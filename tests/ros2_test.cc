@@ -1,0 +1,373 @@
+// omnisweep-server's ROS 2 topics as ROS tools see them, on loopback: every topic carries the
+// stream (the JPEG bytes themselves, compressedDepth and the 32FC1 image decoding to the
+// stream's distances, points on its distance map, the rig's transforms, diagnostics with the
+// fps), Cyclone DDS (an independent implementation, types from its own idlc) receives the
+// images, --no-ros2 leaves no rt/ topic, and bad ROS flags are refused.
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <csignal>
+#include <fastdds/dds/domain/DomainParticipant.hpp>
+#include <fastdds/dds/domain/DomainParticipantFactory.hpp>
+#include <fastdds/dds/domain/DomainParticipantListener.hpp>
+#include <fastdds/dds/subscriber/DataReader.hpp>
+#include <fastdds/dds/subscriber/SampleInfo.hpp>
+#include <fastdds/dds/subscriber/Subscriber.hpp>
+#include <fastdds/dds/subscriber/qos/DataReaderQos.hpp>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <mutex>
+#include <set>
+#include <thread>
+
+#include "omnisweep/codec/codec.h"
+#include "omnisweep/dds/stream_subscriber.h"
+#include "omnisweep/geometry/equirectangular.h"
+#include "omnisweep/ros2/ros_messages.h"
+#include "omnisweep/ros2/ros_publisher.h"
+#include "omnisweep/wire/wire.h"
+#include "tests/support/stream_fixture.h"
+
+namespace omnisweep {
+namespace {
+
+namespace fs = std::filesystem;
+namespace fdds = eprosima::fastdds::dds;
+using dds::TopicKind;
+using testing::BackgroundProcess;
+using testing::run_command;
+using Clock = std::chrono::steady_clock;
+
+// The stream as its own subscribers get it: every frame's payloads by capture stamp.
+class StreamFrames {
+ public:
+  explicit StreamFrames(const dds::ParticipantOptions& options)
+      : subscriber_(options, "reliable", {.frame = [this](const msg::RgbdFrame& f) {
+                      const std::lock_guard lock(mutex_);
+                      const auto& t = f.capture_time_ns();
+                      frames_[*std::min_element(t.begin(), t.end())] = f;
+                    }}) {}
+  std::optional<msg::RgbdFrame> at(std::uint64_t stamp) const {
+    const std::lock_guard lock(mutex_);
+    const auto it = frames_.find(stamp);
+    if (it == frames_.end()) return std::nullopt;
+    return it->second;
+  }
+  std::size_t size() const {
+    const std::lock_guard lock(mutex_);
+    return frames_.size();
+  }
+
+ private:
+  mutable std::mutex mutex_;
+  std::map<std::uint64_t, msg::RgbdFrame> frames_;
+  dds::StreamSubscriber subscriber_;
+};
+
+// The stream's distance map of a frame, as every subscriber decodes it.
+FloatImage stream_distance(const msg::RgbdFrame& frame) {
+  const auto codec = codec::make_distance_codec(frame.distance().codec());
+  return codec->decode(frame.distance().data(), int(frame.width()), int(frame.height()),
+                       wire::from_message(frame.distance_params()));
+}
+
+// Readers of every ROS topic, as ROS tools make them (the QoS profiles of kTopics).
+class RosReaders {
+ public:
+  RosReaders(const dds::ParticipantOptions& options, const std::string& ros_namespace)
+      : participant_(options) {
+    ros2::add_ros_topics(participant_, ros_namespace);
+    fdds::Subscriber& subscriber = participant_.subscriber();
+    for (const dds::TopicSpec& spec : dds::kTopics) {
+      if (dds::is_stream_topic(spec.kind)) continue;
+      fdds::DataReaderQos qos;
+      EXPECT_EQ(subscriber.get_datareader_qos_from_profile(std::string(spec.reader_profile), qos),
+                eprosima::fastrtps::types::ReturnCode_t::RETCODE_OK);
+      readers_[std::size_t(spec.kind)] =
+          subscriber.create_datareader(&participant_.topic(spec.kind), qos);
+    }
+  }
+  ~RosReaders() {
+    for (auto* reader : readers_)
+      if (reader) participant_.subscriber().delete_datareader(reader);
+  }
+  // The next sample of `kind`, if one waits.
+  template <typename Message>
+  std::optional<Message> take(TopicKind kind) {
+    Message m;
+    fdds::SampleInfo info;
+    if (readers_[std::size_t(kind)]->take_next_sample(&m, &info) ==
+            eprosima::fastrtps::types::ReturnCode_t::RETCODE_OK &&
+        info.valid_data)
+      return m;
+    return std::nullopt;
+  }
+
+ private:
+  dds::Participant participant_;
+  std::array<fdds::DataReader*, dds::kTopics.size()> readers_{};
+};
+
+class Ros2Test : public testing::StreamTest {
+ protected:
+  std::string ros_namespace() const { return ros2::namespace_for_prefix(topic_prefix_); }
+};
+
+TEST_F(Ros2Test, EveryTopicCarriesTheStream) {
+  StreamFrames stream(participant_options());
+  RosReaders ros(participant_options(), ros_namespace());
+  BackgroundProcess server(server_command(" --ros-points 64 32"), dir_.path() / "server.log");
+  std::map<std::uint64_t, sensor_msgs::msg::CompressedImage> colors, depths;
+  std::map<std::uint64_t, sensor_msgs::msg::Image> distances;
+  std::map<std::uint64_t, sensor_msgs::msg::PointCloud2> points;
+  std::optional<tf2_msgs::msg::TFMessage> tf;
+  std::optional<diagnostic_msgs::msg::DiagnosticArray> diagnostics;
+  const auto deadline = Clock::now() + std::chrono::seconds(120);
+  const auto enough = [&] {
+    return colors.size() >= 3 && depths.size() >= 3 && distances.size() >= 3 &&
+           points.size() >= 3 && tf && diagnostics;
+  };
+  while (!enough() && Clock::now() < deadline) {
+    bool any = false;
+    if (auto m = ros.take<sensor_msgs::msg::CompressedImage>(TopicKind::kRosColor))
+      any = true, colors[ros2::stamp_ns(m->header().stamp())] = *m;
+    if (auto m = ros.take<sensor_msgs::msg::CompressedImage>(TopicKind::kRosCompressedDepth))
+      any = true, depths[ros2::stamp_ns(m->header().stamp())] = *m;
+    if (auto m = ros.take<sensor_msgs::msg::Image>(TopicKind::kRosDistance))
+      any = true, distances[ros2::stamp_ns(m->header().stamp())] = *m;
+    if (auto m = ros.take<sensor_msgs::msg::PointCloud2>(TopicKind::kRosPoints))
+      any = true, points[ros2::stamp_ns(m->header().stamp())] = *m;
+    if (auto m = ros.take<tf2_msgs::msg::TFMessage>(TopicKind::kRosTfStatic)) any = true, tf = m;
+    if (auto m = ros.take<diagnostic_msgs::msg::DiagnosticArray>(TopicKind::kRosDiagnostics))
+      any = true, diagnostics = m;
+    if (!any) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  ASSERT_TRUE(enough()) << colors.size() << " colour, " << depths.size() << " compressedDepth, "
+                        << distances.size() << " distance, " << points.size() << " points, tf "
+                        << bool(tf) << ", diagnostics " << bool(diagnostics) << "\n"
+                        << server.log();
+  std::this_thread::sleep_for(std::chrono::milliseconds(500));  // the stream's last frames
+  const std::string panorama_frame =
+      ros2::frame_prefix_for_namespace(ros_namespace()) + "_panorama";
+  const std::string rig_frame = ros2::frame_prefix_for_namespace(ros_namespace()) + "_rig";
+
+  int checked = 0;
+  for (const auto& [stamp, m] : colors) {
+    const auto frame = stream.at(stamp);
+    if (!frame) continue;
+    EXPECT_EQ(m.format(), "rgb8; jpeg compressed bgr8");
+    EXPECT_EQ(m.header().frame_id(), panorama_frame);
+    EXPECT_EQ(m.data(), frame->color().data()) << "the JPEG is the stream's own bytes";
+    ++checked;
+  }
+  EXPECT_GE(checked, 2);
+  checked = 0;
+  for (const auto& [stamp, m] : distances) {
+    const auto frame = stream.at(stamp);
+    if (!frame) continue;
+    const FloatImage want = stream_distance(*frame);
+    ASSERT_EQ(m.width(), 256u);
+    ASSERT_EQ(m.height(), 128u);
+    EXPECT_EQ(m.encoding(), "32FC1");
+    const float* got = reinterpret_cast<const float*>(m.data().data());
+    for (std::size_t i = 0; i < want.size(); ++i) {
+      if (want.data()[i] == 0.0f)
+        ASSERT_TRUE(std::isnan(got[i])) << i;
+      else
+        ASSERT_EQ(got[i], want.data()[i]) << i;
+    }
+    ++checked;
+  }
+  EXPECT_GE(checked, 2);
+  checked = 0;
+  for (const auto& [stamp, m] : depths) {
+    const auto frame = stream.at(stamp);
+    if (!frame) continue;
+    const FloatImage want = stream_distance(*frame);
+    const FloatImage got = ros2::decode_compressed_depth(m);
+    ASSERT_EQ(got.width(), 256);
+    const double bound = wire::from_message(frame->distance_params()).max_quantisation_error();
+    for (std::size_t i = 0; i < want.size(); ++i) {
+      if (want.data()[i] == 0.0f) {
+        ASSERT_TRUE(std::isnan(got.data()[i])) << i;
+        continue;
+      }
+      // The same level through compressed_depth_image_transport's float A / (v - B).
+      ASSERT_NEAR(1.0 / got.data()[i], 1.0 / want.data()[i], 0.05 * bound) << i;
+    }
+    ++checked;
+  }
+  EXPECT_GE(checked, 2);
+  checked = 0;
+  for (const auto& [stamp, m] : points) {
+    const auto frame = stream.at(stamp);
+    if (!frame) continue;
+    const FloatImage want = stream_distance(*frame);
+    const Eigen::Vector3d viewpoint(frame->viewpoint().x(), frame->viewpoint().y(),
+                                    frame->viewpoint().z());
+    EXPECT_EQ(m.header().frame_id(), rig_frame);
+    ASSERT_EQ(m.width(), 64u);
+    ASSERT_EQ(m.height(), 32u);
+    int on_map = 0;
+    for (std::size_t i = 0; i < std::size_t(64 * 32); ++i) {
+      const float* p = reinterpret_cast<const float*>(m.data().data()) + 4 * i;
+      if (std::isnan(p[0])) continue;
+      const Eigen::Vector3d ray = Eigen::Vector3d(p[0], p[1], p[2]) - viewpoint;
+      const Eigen::Vector2d pixel = equirect_pixel<double>(ray, 256, 128);
+      const int x = int(std::lround(pixel.x())), y = int(std::lround(pixel.y()));
+      ASSERT_NEAR(ray.norm(), want(x, y), 1e-4 * want(x, y)) << "point " << i;
+      ++on_map;
+    }
+    EXPECT_GT(on_map, 64 * 32 / 2);
+    ++checked;
+  }
+  EXPECT_GE(checked, 2);
+
+  ASSERT_EQ(tf->transforms().size(), 5u);  // the panorama and 4 cameras
+  EXPECT_EQ(tf->transforms()[0].header().frame_id(), rig_frame);
+  EXPECT_EQ(tf->transforms()[0].child_frame_id(), panorama_frame);
+  std::map<std::string, std::string> values;
+  for (const auto& kv : diagnostics->status().at(0).values()) values[kv.key()] = kv.value();
+  EXPECT_EQ(values.count("fps"), 1u);
+  EXPECT_NE(diagnostics->status()[0].name().find(ros_namespace()), std::string::npos);
+  std::cout << "ROS readers got " << colors.size() << " colour, " << depths.size()
+            << " compressedDepth, " << distances.size() << " 32FC1, " << points.size()
+            << " point clouds; compressedDepth " << depths.begin()->second.data().size()
+            << " bytes, colour " << colors.begin()->second.data().size() << " bytes\n";
+  double seconds = 0;
+  EXPECT_EQ(server.stop(SIGTERM, 5, &seconds), 0) << server.log();
+}
+
+// Every topic a participant announces on the domain.
+class TopicCollector : public fdds::DomainParticipantListener {
+ public:
+  void on_publisher_discovery(fdds::DomainParticipant*,
+                              eprosima::fastrtps::rtps::WriterDiscoveryInfo&& info) override {
+    const std::lock_guard lock(mutex_);
+    topics_.insert(info.info.topicName().to_string());
+  }
+  std::set<std::string> topics() const {
+    const std::lock_guard lock(mutex_);
+    return topics_;
+  }
+
+ private:
+  mutable std::mutex mutex_;
+  std::set<std::string> topics_;
+};
+
+std::set<std::string> topics_announced(int domain, const std::string& wait_for,
+                                       BackgroundProcess& server) {
+  TopicCollector collector;
+  auto* factory = fdds::DomainParticipantFactory::get_instance();
+  fdds::DomainParticipant* participant = factory->create_participant(
+      domain, fdds::PARTICIPANT_QOS_DEFAULT, &collector, fdds::StatusMask::none());
+  const auto deadline = Clock::now() + std::chrono::seconds(60);
+  while (!collector.topics().count(wait_for) && Clock::now() < deadline && server.running())
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  std::this_thread::sleep_for(std::chrono::seconds(2));  // every writer is announced by now
+  factory->delete_participant(participant);
+  return collector.topics();
+}
+
+TEST_F(Ros2Test, NoRos2LeavesNoRtTopicAndTheDefaultHasThemAll) {
+  for (const bool ros : {false, true}) {
+    BackgroundProcess server(server_command(ros ? "" : " --no-ros2"), dir_.path() / "server.log");
+    const std::set<std::string> topics = topics_announced(domain_, topic_prefix_ + "/rgbd", server);
+    ASSERT_TRUE(topics.count(topic_prefix_ + "/rgbd")) << server.log();
+    std::set<std::string> rt;
+    for (const std::string& t : topics)
+      if (t.rfind("rt/", 0) == 0) rt.insert(t);
+    if (!ros) {
+      EXPECT_TRUE(rt.empty()) << *rt.begin();
+    } else {
+      const std::string ns = "rt" + ros_namespace();
+      EXPECT_EQ(rt,
+                (std::set<std::string>{
+                    ns + "/color/image_raw/compressed", ns + "/distance/image_raw/compressedDepth",
+                    ns + "/distance/image_raw", ns + "/points", "rt/tf_static", "rt/diagnostics"}));
+    }
+    double seconds = 0;
+    EXPECT_EQ(server.stop(SIGTERM, 5, &seconds), 0) << server.log();
+  }
+}
+
+TEST_F(Ros2Test, BadRosFlagsAreRefused) {
+  const std::pair<const char*, const char*> cases[] = {
+      {" --ros-namespace rig", "RosOptions.ros_namespace = \"rig\": must be a fully qualified"},
+      {" --ros-namespace /rig-1", "character '-' is not allowed"},
+      {" --ros-namespace /2rig", "must not start with a digit"},
+      {" --ros-namespace /a//b", "must not contain \"//\""},
+      {" --ros-frame-prefix a.b", "RosOptions.frame_prefix = \"a.b\""},
+      {" --ros-points 100 20", "RosOptions.points = 100x20: must be W x W/2"},
+      {" --no-ros2 --ros-namespace /x", "--no-ros2 turns the ROS 2 topics off"},
+  };
+  for (const auto& [flags, message] : cases) {
+    std::string out;
+    EXPECT_EQ(run_command(server_command(flags), &out), 1) << flags;
+    EXPECT_NE(out.find(message), std::string::npos) << flags << ":\n" << out;
+  }
+}
+
+#ifdef OMNISWEEP_CYCLONE_SUBSCRIBER
+std::string read_bytes(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+// Cyclone DDS, another vendor's DDS with types from its own idlc run on idl/ros2/ros2_msgs.idl,
+// subscribes to the colour and the 32FC1 topics: what it receives equals the stream.
+TEST_F(Ros2Test, CycloneDdsReceivesTheStreamsImages) {
+  StreamFrames stream(participant_options());
+  BackgroundProcess server(server_command(), dir_.path() / "server.log");
+  const fs::path out = dir_.path() / "cyclone";
+  fs::create_directories(out);
+  std::string log;
+  ASSERT_EQ(run_command(std::string(OMNISWEEP_CYCLONE_SUBSCRIBER) + " " + std::to_string(domain_) +
+                            " " + ros_namespace() + " " + out.string() + " 3 120",
+                        &log),
+            0)
+      << log << server.log();
+  std::this_thread::sleep_for(std::chrono::milliseconds(500));
+  int colors = 0, distances = 0;
+  std::size_t bytes = 0;
+  for (const auto& entry : fs::directory_iterator(out)) {
+    const std::string name = entry.path().stem().string();  // <kind>_<sec>_<nanosec>
+    const auto first = name.find('_'), second = name.rfind('_');
+    const std::uint64_t stamp =
+        std::stoull(name.substr(first + 1, second - first - 1)) * 1'000'000'000ull +
+        std::stoull(name.substr(second + 1));
+    const auto frame = stream.at(stamp);
+    if (!frame) continue;  // a frame the stream's reader was not yet matched for
+    const std::string got = read_bytes(entry.path());
+    bytes += got.size();
+    if (name.rfind("color", 0) == 0) {
+      EXPECT_EQ(got, std::string(frame->color().data().begin(), frame->color().data().end()))
+          << name;
+      ++colors;
+    } else {
+      const FloatImage want = stream_distance(*frame);
+      ASSERT_EQ(got.size(), want.size() * 4) << name;
+      const float* v = reinterpret_cast<const float*>(got.data());
+      for (std::size_t i = 0; i < want.size(); ++i) {
+        if (want.data()[i] == 0.0f)
+          ASSERT_TRUE(std::isnan(v[i])) << name << " " << i;
+        else
+          ASSERT_EQ(v[i], want.data()[i]) << name << " " << i;
+      }
+      ++distances;
+    }
+  }
+  std::cout << "Cyclone DDS received and matched " << colors << " colour and " << distances
+            << " distance images equal to the stream's (" << bytes << " bytes)\n"
+            << log;
+  EXPECT_GE(colors, 2);
+  EXPECT_GE(distances, 2);
+  double seconds = 0;
+  EXPECT_EQ(server.stop(SIGTERM, 5, &seconds), 0) << server.log();
+}
+#endif
+
+}  // namespace
+}  // namespace omnisweep
