@@ -5,7 +5,7 @@ include(GNUInstallDirs)
 include(CMakePackageConfigHelpers)
 
 # In link order: each library before those it uses.
-set(OMNISWEEP_SDK_MODULES record client dds wire codec reproject gpu shaders dataset image_io rig image camera msgs)
+set(OMNISWEEP_SDK_MODULES record ros2 client dds wire codec reproject gpu shaders dataset image_io rig image camera msgs ros2_msgs)
 set(sdk_targets omnisweep_client_sdk)
 set(OMNISWEEP_PC_LIBS "")
 foreach(module ${OMNISWEEP_SDK_MODULES})
@@ -18,6 +18,7 @@ foreach(module ${OMNISWEEP_SDK_MODULES})
 endforeach()
 set_target_properties(omnisweep_client_sdk PROPERTIES EXPORT_NAME client_sdk)
 target_include_directories(omnisweep_msgs PUBLIC $<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}/omnisweep/generated>)
+target_include_directories(omnisweep_ros2_msgs PUBLIC $<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}/omnisweep/generated>)
 
 install(TARGETS ${sdk_targets} EXPORT omnisweepTargets
   ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
@@ -25,6 +26,8 @@ install(TARGETS ${sdk_targets} EXPORT omnisweepTargets
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/client_sdk/include/omnisweep DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
 install(FILES ${PROJECT_BINARY_DIR}/idl/generated/omnisweep_msgs.h
               ${PROJECT_BINARY_DIR}/idl/generated/omnisweep_msgsPubSubTypes.h
+              ${PROJECT_BINARY_DIR}/idl/generated/ros2_msgs.h
+              ${PROJECT_BINARY_DIR}/idl/generated/ros2_msgsPubSubTypes.h
         DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/omnisweep/generated)
 install(FILES ${PROJECT_SOURCE_DIR}/deploy/qos/omnisweep_qos.xml DESTINATION ${CMAKE_INSTALL_DATADIR}/omnisweep/qos)
 

@@ -2,7 +2,9 @@
 // stream (the JPEG bytes themselves, compressedDepth and the 32FC1 image decoding to the
 // stream's distances, points on its distance map, the rig's transforms, diagnostics with the
 // fps), Cyclone DDS (an independent implementation, types from its own idlc) receives the
-// images, --no-ros2 leaves no rt/ topic, and bad ROS flags are refused.
+// images, recordings hold the ROS topics as rosbag2 writes them (read by Foxglove's own readers
+// under Node) and play replays them, --no-ros2 leaves no rt/ topic, and bad ROS flags are
+// refused.
 #include <gtest/gtest.h>
 
 #include <chrono>
@@ -18,12 +20,14 @@
 #include <fstream>
 #include <map>
 #include <mutex>
+#include <nlohmann/json.hpp>
 #include <set>
 #include <thread>
 
 #include "omnisweep/codec/codec.h"
 #include "omnisweep/dds/stream_subscriber.h"
 #include "omnisweep/geometry/equirectangular.h"
+#include "omnisweep/record/stream_recording.h"
 #include "omnisweep/ros2/ros_messages.h"
 #include "omnisweep/ros2/ros_publisher.h"
 #include "omnisweep/wire/wire.h"
@@ -308,6 +312,128 @@ TEST_F(Ros2Test, BadRosFlagsAreRefused) {
     EXPECT_EQ(run_command(server_command(flags), &out), 1) << flags;
     EXPECT_NE(out.find(message), std::string::npos) << flags << ":\n" << out;
   }
+}
+
+// omnisweep-record writes the ROS 2 topics as rosbag2 does; Foxglove's readers (@mcap/core,
+// @foxglove/rosmsg, rosmsg2-serialization under the recorded, Humble and Jazzy definitions)
+// decode every message to the recorded stream's own images; omnisweep-play replays them on DDS.
+TEST_F(Ros2Test, RecordingHoldsTheRosTopicsFoxgloveReadsAndPlayReplays) {
+  const fs::path node_dir = testing::mcap_node_dir();
+  ASSERT_TRUE(fs::exists(node_dir / "node_modules/@foxglove/rosmsg2-serialization"))
+      << "the mcap_node_setup test installs the Node packages in " << node_dir;
+  const fs::path file = dir_.path() / "ros.mcap";
+  {
+    BackgroundProcess server(server_command(" --no-ros2"), dir_.path() / "server.log");
+    std::string out;
+    ASSERT_EQ(run_command(tool_command("record", " --output " + file.string() +
+                                                     " --frames 8 --ros2-raw --ros-points 64 32"),
+                          &out),
+              0)
+        << out << server.log();
+    double seconds = 0;
+    EXPECT_EQ(server.stop(SIGTERM, 5, &seconds), 0) << server.log();
+  }
+  // The stream's frames as recorded, by capture stamp.
+  std::map<std::uint64_t, msg::RgbdFrame> frames;
+  record::McapReader reader(file);
+  reader.read([&](const record::McapMessage& m) {
+    if (record::recorded_topic(reader, *m.channel) == TopicKind::kFrames) {
+      msg::RgbdFrame f;
+      record::decode_message(m.data, f);
+      frames[*std::min_element(f.capture_time_ns().begin(), f.capture_time_ns().end())] = f;
+    }
+    return true;
+  });
+  ASSERT_EQ(frames.size(), 8u);
+
+  std::string out;
+  ASSERT_EQ(
+      run_command("node " + (node_dir / "read_ros2.mjs").string() + " " + file.string(), &out), 0)
+      << out;
+  const auto json = nlohmann::json::parse(out.substr(out.find('{')));
+  EXPECT_EQ(json["profile"], "ros2");
+  const std::string ns = ros_namespace();
+  std::map<std::string, std::string> types;
+  for (const auto& c : json["channels"]) {
+    types[c["topic"]] = c["schemaName"];
+    EXPECT_EQ(c["messageEncoding"], "cdr");
+    EXPECT_NE(c["offeredQos"].get<std::string>().find("reliability: 1"), std::string::npos);
+  }
+  EXPECT_EQ(types,
+            (std::map<std::string, std::string>{
+                {ns + "/color/image_raw/compressed", "sensor_msgs/msg/CompressedImage"},
+                {ns + "/distance/image_raw/compressedDepth", "sensor_msgs/msg/CompressedImage"},
+                {ns + "/distance/image_raw", "sensor_msgs/msg/Image"},
+                {ns + "/points", "sensor_msgs/msg/PointCloud2"},
+                {"/tf_static", "tf2_msgs/msg/TFMessage"},
+                {"/diagnostics", "diagnostic_msgs/msg/DiagnosticArray"}}));
+  std::map<std::string, int> counts;
+  for (const auto& m : json["messages"]) {
+    const std::string topic = m["topic"];
+    ++counts[topic];
+    if (topic == "/tf_static") {
+      EXPECT_EQ(m["children"].size(), 5u);
+      continue;
+    }
+    if (topic == "/diagnostics") {
+      EXPECT_FALSE(m["fps"].is_null());
+      continue;
+    }
+    const auto frame = frames.find(std::stoull(m["stamp"].get<std::string>()));
+    ASSERT_NE(frame, frames.end()) << m.dump();
+    if (topic == ns + "/color/image_raw/compressed") {
+      EXPECT_EQ(m["crc32"], frame->second.color().crc32()) << "the JPEG is the stream's bytes";
+      EXPECT_EQ(m["bytes"], frame->second.color().data().size());
+      EXPECT_EQ(m["width"], 256);
+      EXPECT_EQ(m["height"], 128);
+    } else if (topic == ns + "/distance/image_raw/compressedDepth") {
+      const FloatImage want = stream_distance(frame->second);
+      const double bound =
+          wire::from_message(frame->second.distance_params()).max_quantisation_error();
+      EXPECT_EQ(m["width"], 256);
+      ASSERT_GT(m["samples"].size(), 300u);
+      for (const auto& sample : m["samples"]) {
+        const float stream = want.data()[sample[0].get<std::size_t>()];
+        if (stream == 0.0f) {
+          EXPECT_TRUE(sample[1].is_null());
+        } else {
+          ASSERT_NEAR(1.0 / sample[1].get<double>(), 1.0 / stream, 0.05 * bound) << sample;
+        }
+      }
+    } else if (topic == ns + "/distance/image_raw") {
+      EXPECT_EQ(m["bytes"], 256 * 128 * 4);
+    } else if (topic == ns + "/points") {
+      EXPECT_EQ(m["width"], 64);
+      EXPECT_EQ(m["bytes"], 64 * 32 * 16);
+    }
+  }
+  EXPECT_EQ(counts[ns + "/color/image_raw/compressed"], 8);
+  EXPECT_EQ(counts[ns + "/distance/image_raw/compressedDepth"], 8);
+  EXPECT_EQ(counts["/tf_static"], 1);
+  EXPECT_GE(counts["/diagnostics"], 1);
+  std::cout << "Foxglove's readers decoded " << json["messages"].size()
+            << " ROS messages under the recorded, Humble and Jazzy definitions\n";
+
+  // omnisweep-play replays the recorded ROS topics on DDS.
+  RosReaders ros(participant_options(), ns);
+  BackgroundProcess play(tool_command("play", " " + file.string() + " --rate 4"),
+                         dir_.path() / "play.log");
+  std::set<std::uint64_t> replayed;
+  const auto deadline = Clock::now() + std::chrono::seconds(30);
+  while (replayed.size() < 8 && Clock::now() < deadline) {
+    if (auto m = ros.take<sensor_msgs::msg::CompressedImage>(TopicKind::kRosColor)) {
+      const std::uint64_t stamp = ros2::stamp_ns(m->header().stamp());
+      ASSERT_TRUE(frames.count(stamp));
+      EXPECT_EQ(m->data(), frames[stamp].color().data());
+      replayed.insert(stamp);
+    } else {
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+  }
+  // The first frames may go out before the reader is matched.
+  EXPECT_GE(replayed.size(), 5u) << play.log();
+  double seconds = 0;
+  play.stop(SIGTERM, 5, &seconds);
 }
 
 #ifdef OMNISWEEP_CYCLONE_SUBSCRIBER

@@ -1,6 +1,7 @@
 // omnisweep-play: republishes an MCAP recording of omnisweep-record on DDS with its original
 // timing (--rate faster or slower, --loop to repeat), to the recorded topic prefix or
-// --topic-prefix. --list prints the channels and message counts instead. Frames keep their
+// --topic-prefix, and its ROS 2 topics (docs/ros2.md) to the recorded namespace or
+// --ros-namespace. --list prints the channels and message counts instead. Frames keep their
 // recorded sequence numbers and timestamps.
 #include <CLI/CLI.hpp>
 #include <atomic>
@@ -10,9 +11,11 @@
 #include <thread>
 
 #include "client_sdk/tools/dds_flags.h"
+#include "client_sdk/tools/ros2_flags.h"
 #include "client_sdk/tools/tool_main.h"
 #include "omnisweep/dds/stream_publisher.h"
 #include "omnisweep/record/stream_recording.h"
+#include "omnisweep/ros2/ros_publisher.h"
 
 namespace {
 
@@ -64,6 +67,10 @@ int run(int argc, char** argv) {
   app.add_option("--wait-timeout", wait_timeout_s, "Give up waiting for subscribers after this (s)")
       ->check(CLI::Range(0.1, 1e6));
   app.add_flag("--list", list_only, "Print the channels and message counts, then exit");
+  tools::Ros2Flags ros_flags;
+  tools::add_ros2_flags(app, ros_flags,
+                        "Do not publish the ROS 2 topics (by default: the recorded ones, or, for a "
+                        "recording without them, made from its frames as omnisweep-server does)");
   CLI11_PARSE(app, argc, argv);
   if (list_only) return list(file);
   std::signal(SIGINT, on_signal);
@@ -73,7 +80,13 @@ int run(int argc, char** argv) {
   reader.read([](const record::McapMessage&) { return false; });  // the channels first
   bool confidence = false;  // a recording with the confidence topic replays it too
   std::string recorded_prefix;
+  std::optional<std::string> recorded_namespace;  // of recorded ROS 2 topics
   for (const auto& [id, channel] : reader.channels()) {
+    if (const auto ros = record::recorded_ros_topic(reader, channel)) {
+      if (dds::topic_spec(*ros).scope == dds::TopicScope::kRosNamespace)
+        recorded_namespace = record::recorded_ros_namespace(channel, *ros);
+      continue;
+    }
     const auto kind = record::recorded_topic(reader, channel);
     if (!kind) continue;
     recorded_prefix = record::recorded_prefix(channel);
@@ -82,7 +95,17 @@ int run(int argc, char** argv) {
   if (recorded_prefix.empty()) throw std::runtime_error(file + " holds no omnisweep channel");
   if (options.topic_prefix.empty()) options.topic_prefix = recorded_prefix;
   options.check();
+  if (recorded_namespace && app.count("--ros-namespace") == 0)
+    ros_flags.options.ros_namespace = *recorded_namespace;
+  std::optional<ros2::RosOptions> ros_options =
+      tools::ros2_options(app, ros_flags, options.topic_prefix);
   dds::StreamPublisher publisher(options, frame_profile, confidence);
+  std::unique_ptr<ros2::RosPublisher> ros;
+  if (ros_options)
+    ros = std::make_unique<ros2::RosPublisher>(publisher.participant(), *ros_options);
+  // Recorded ROS topics are replayed as recorded; a recording without them gets them made from
+  // its frames, as omnisweep-server makes them.
+  const bool derive_ros = ros && !recorded_namespace;
   if (wait_for > 0) {
     const auto deadline = Clock::now() + std::chrono::duration<double>(wait_timeout_s);
     while (publisher.frame_subscribers() < wait_for && Clock::now() < deadline && !g_stop)
@@ -107,21 +130,29 @@ int run(int argc, char** argv) {
     msg::ServerStatus status;
     msg::ConfidenceFrame frame_confidence;
     const record::McapReadSummary summary = reader.read([&](const record::McapMessage& m) {
-      const auto kind = record::recorded_topic(reader, *m.channel);
-      if (!kind) return true;
+      const auto ros_kind = record::recorded_ros_topic(reader, *m.channel);
+      const auto kind = ros_kind ? ros_kind : record::recorded_topic(reader, *m.channel);
+      if (!kind || (ros_kind && !ros)) return true;
       if (first) first_log = m.log_time_ns, first = false;
       const auto due =
           start + std::chrono::nanoseconds(std::int64_t(double(m.log_time_ns - first_log) / rate));
       while (Clock::now() < due && !g_stop)
         std::this_thread::sleep_until(std::min(due, Clock::now() + std::chrono::milliseconds(50)));
       if (g_stop) return false;
-      if (*kind == dds::TopicKind::kDescription) {
+      if (ros_kind) {
+        ros->publish_recorded(*ros_kind, m.data);
+      } else if (*kind == dds::TopicKind::kDescription) {
         record::decode_message(m.data, description);
         description.topic_prefix(options.topic_prefix);
         publisher.publish(description);
+        if (derive_ros)
+          ros->publish_static(m.log_time_ns, ros2::rig_from_cameras(description),
+                              {description.viewpoint().x(), description.viewpoint().y(),
+                               description.viewpoint().z()});
       } else if (*kind == dds::TopicKind::kFrames) {
         record::decode_message(m.data, frame);
         publisher.publish(frame);
+        if (derive_ros && ros->wants_frames()) ros->publish_frame(ros2::frame_inputs(frame));
         ++frames;
       } else if (*kind == dds::TopicKind::kConfidence) {
         record::decode_message(m.data, frame_confidence);
@@ -129,6 +160,7 @@ int run(int argc, char** argv) {
       } else {
         record::decode_message(m.data, status);
         publisher.publish(status);
+        if (derive_ros) ros->publish_diagnostics(status.time_ns(), status);
       }
       return true;
     });

@@ -11,6 +11,7 @@
 
 #include "client_sdk/tools/cli_checks.h"
 #include "client_sdk/tools/dds_flags.h"
+#include "client_sdk/tools/ros2_flags.h"
 #include "client_sdk/tools/tool_main.h"
 #include "omnisweep/dds/stream_subscriber.h"
 #include "omnisweep/record/stream_recording.h"
@@ -42,12 +43,25 @@ int run(int argc, char** argv) {
   app.add_flag("--confidence", confidence,
                "Record the optional confidence topic too (omnisweep-server --confidence)");
   app.add_flag("--verbose", verbose, "Print every frame as it is recorded (sequence number, time)");
+  tools::Ros2Flags ros_flags;
+  tools::add_ros2_flags(app, ros_flags,
+                        "Record only the stream's own topics (by default the ROS 2 topics too, "
+                        "made from the stream: rosbag2's MCAP profile, docs/ros2.md)");
+  bool ros_raw = false;
+  app.add_flag("--ros2-raw", ros_raw,
+               "Also record the ROS 2 32FC1 distance image and point cloud (8 MB and 2 MB a "
+               "2048x1024 frame at defaults)");
   CLI11_PARSE(app, argc, argv);
   options.check();
+  std::optional<record::RosRecording> ros;
+  if (auto ros_options = tools::ros2_options(app, ros_flags, options.topic_prefix))
+    ros = record::RosRecording{*ros_options, ros_raw};
+  else if (ros_raw)
+    throw std::invalid_argument("--ros2-raw records ROS 2 topics; drop --no-ros2 or --ros2-raw");
   std::signal(SIGINT, on_signal);
   std::signal(SIGTERM, on_signal);
 
-  record::StreamRecorder recorder(output, options.topic_prefix, {}, confidence);
+  record::StreamRecorder recorder(output, options.topic_prefix, {}, confidence, ros);
   std::atomic<std::uint64_t> frames{0};
   dds::StreamCallbacks callbacks;
   callbacks.description = [&](const msg::StreamDescription& d) {
@@ -76,8 +90,10 @@ int run(int argc, char** argv) {
   }
   auto subscriber =
       std::make_unique<dds::StreamSubscriber>(options, profile, std::move(callbacks), topics);
-  std::printf("omnisweep-record: recording %s/* on domain %d to %s\n", options.topic_prefix.c_str(),
-              options.domain, output.c_str());
+  std::printf("omnisweep-record: recording %s/* on domain %d to %s%s%s\n",
+              options.topic_prefix.c_str(), options.domain, output.c_str(),
+              ros ? ", with the ROS 2 topics under " : "",
+              ros ? ros->options.ros_namespace.c_str() : "");
   std::fflush(stdout);
 
   const auto start = std::chrono::steady_clock::now();

@@ -8,10 +8,10 @@
 
 #include "client_sdk/tools/cli_checks.h"
 #include "client_sdk/tools/dds_flags.h"
+#include "client_sdk/tools/ros2_flags.h"
 #include "client_sdk/tools/tool_main.h"
 #include "omnisweep/dataset/dataset.h"
 #include "omnisweep/dds/stream_publisher.h"
-#include "omnisweep/ros2/ros_options.h"
 #include "server/capture/frame_source.h"
 #include "server/pipeline/rgbd_server.h"
 #include "server/tools/depth_flags.h"
@@ -87,22 +87,10 @@ int run(int argc, char** argv) {
   app.add_flag("--confidence", options.confidence,
                "Also publish each frame's distance confidence (8-bit, conf8-zstd) on "
                "<prefix>/confidence; subscribers that do not ask for it are unaffected");
-  bool no_ros2 = false;
-  ros2::RosOptions ros_options;
-  std::vector<int> ros_points = {ros_options.points_width, ros_options.points_height};
-  app.add_flag("--no-ros2", no_ros2,
-               "Do not publish the ROS 2 topics (docs/ros2.md); by default they exist and cost "
-               "nothing until a ROS reader matches one");
-  app.add_option("--ros-namespace", ros_options.ros_namespace,
-                 "ROS 2 namespace of the image and point topics (default: / + the topic prefix, "
-                 "'-' made '_')");
-  app.add_option("--ros-frame-prefix", ros_options.frame_prefix,
-                 "ROS frame ids <P>_rig, <P>_panorama, <P>_camera<i> (default: the namespace's "
-                 "names joined by '_')");
-  app.add_option("--ros-points", ros_points,
-                 "Size of the ROS point cloud's equirectangular grid, W H (W = 2 H)")
-      ->expected(2)
-      ->check(CLI::Range(1, 8192));
+  tools::Ros2Flags ros_flags;
+  tools::add_ros2_flags(app, ros_flags,
+                        "Do not publish the ROS 2 topics (docs/ros2.md); by default they exist and "
+                        "cost nothing until a ROS reader matches one");
   app.add_option("--dump", options.dump_dir,
                  "Write <seq>.jpg and <seq>_distance.f32 (float32 metres) of every frame here");
   app.add_option("--log-interval", options.log_interval_s,
@@ -114,19 +102,7 @@ int run(int argc, char** argv) {
   if (!rgb_resolution.empty()) options.rgb_resolution = {rgb_resolution[0], rgb_resolution[1]};
   if (!viewpoint.empty())
     options.viewpoint = Eigen::Vector3d(viewpoint[0], viewpoint[1], viewpoint[2]);
-  if (!no_ros2) {
-    if (app.count("--ros-namespace") == 0)
-      ros_options.ros_namespace = ros2::namespace_for_prefix(dds_options.topic_prefix);
-    if (app.count("--ros-frame-prefix") == 0)
-      ros_options.frame_prefix = ros2::frame_prefix_for_namespace(ros_options.ros_namespace);
-    ros_options.points_width = ros_points[0];
-    ros_options.points_height = ros_points[1];
-    ros_options.check();  // a bad namespace is an error before anything starts
-    options.ros2 = ros_options;
-  } else if (app.count("--ros-namespace") || app.count("--ros-frame-prefix") ||
-             app.count("--ros-points")) {
-    throw std::invalid_argument("--no-ros2 turns the ROS 2 topics off; drop the --ros-* options");
-  }
+  options.ros2 = tools::ros2_options(app, ros_flags, dds_options.topic_prefix);
   if (light) {
     options.distance.levels = codec::kLightDistance.levels;
     options.distance.downsample = codec::kLightDistance.downsample;

@@ -1,5 +1,6 @@
 #include "omnisweep/ros2/ros_messages.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -8,6 +9,8 @@
 #include <stdexcept>
 
 #include "omnisweep/geometry/equirectangular.h"
+#include "omnisweep/wire/wire.h"
+#include "ros2_msgsPubSubTypes.h"
 
 namespace omnisweep::ros2 {
 namespace {
@@ -258,5 +261,119 @@ diagnostic_msgs::msg::DiagnosticArray diagnostics(std::uint64_t stamp_ns, const 
   }
   return array;
 }
+
+FrameInputs frame_inputs(const msg::RgbdFrame& frame) {
+  FrameInputs in;
+  const auto& times = frame.capture_time_ns();
+  in.stamp_ns =
+      times.empty() ? frame.processing_start_ns() : *std::min_element(times.begin(), times.end());
+  in.width = int(frame.width());
+  in.height = int(frame.height());
+  in.jpeg = wire::checked_bytes(frame.color(), "colour");
+  in.distance = wire::checked_bytes(frame.distance(), "distance");
+  in.distance_codec = frame.distance().codec();
+  in.distance_params = wire::from_message(frame.distance_params());
+  in.viewpoint = {frame.viewpoint().x(), frame.viewpoint().y(), frame.viewpoint().z()};
+  return in;
+}
+
+std::vector<Rigid3d> rig_from_cameras(const msg::StreamDescription& description) {
+  std::vector<Rigid3d> poses;
+  for (const RigCamera& camera : wire::rig_from_description(description).cameras)
+    poses.push_back(camera.rig_from_cam);
+  return poses;
+}
+
+FrameConverter::FrameConverter(const RosOptions& options)
+    : options_(options),
+      distance_codec_(codec::make_distance_codec("qinv16-zstd")),
+      color_codec_(codec::make_color_codec("jpeg")) {
+  options_.check();
+}
+
+FrameMessages FrameConverter::convert(const FrameInputs& frame, const WantedTopics& wanted) {
+  FrameMessages out;
+  const std_msgs::msg::Header image_header = make_header(frame.stamp_ns, options_.panorama_frame());
+  if (wanted.color) out.color = compressed_color(image_header, frame.jpeg);
+  if (!wanted.compressed_depth && !wanted.distance && !wanted.points) return out;
+  if (frame.distance_codec != distance_codec_->name())
+    distance_codec_ = codec::make_distance_codec(frame.distance_codec);
+  // The stream's own levels: compressedDepth carries them losslessly, and the metres of the
+  // image and the points are what every subscriber of the stream decodes.
+  const Image<std::uint16_t> levels = distance_codec_->decode_levels(
+      frame.distance, frame.width, frame.height, frame.distance_params);
+  if (wanted.compressed_depth)
+    out.compressed_depth = compressed_depth(image_header, levels, frame.distance_params);
+  if (!wanted.distance && !wanted.points) return out;
+  const FloatImage metres =
+      distance_codec_->decode(frame.distance, frame.width, frame.height, frame.distance_params);
+  if (wanted.distance) out.distance = distance_image(image_header, metres);
+  if (wanted.points) {
+    Rgb8Image decoded;
+    const Rgb8Image* rgb = frame.color;
+    if (!rgb) {
+      decoded = color_codec_->decode(frame.jpeg, frame.width, frame.height);
+      rgb = &decoded;
+    }
+    out.points = point_cloud(make_header(frame.stamp_ns, options_.rig_frame()), metres, *rgb,
+                             frame.viewpoint, options_.points_width, options_.points_height);
+  }
+  return out;
+}
+
+namespace {
+
+// The ROS 2 types this module serialises, each once.
+#define OMNISWEEP_ROS2_TYPES(X)        \
+  X(sensor_msgs::msg::CompressedImage) \
+  X(sensor_msgs::msg::Image)           \
+  X(sensor_msgs::msg::PointCloud2)     \
+  X(tf2_msgs::msg::TFMessage)          \
+  X(diagnostic_msgs::msg::DiagnosticArray)
+
+template <typename Message>
+struct PubSub;
+#define OMNISWEEP_ROS2_PUBSUB(Type) \
+  template <>                       \
+  struct PubSub<Type> {             \
+    using type = Type##PubSubType;  \
+  };
+OMNISWEEP_ROS2_TYPES(OMNISWEEP_ROS2_PUBSUB)
+#undef OMNISWEEP_ROS2_PUBSUB
+
+}  // namespace
+
+template <typename Message>
+std::vector<std::uint8_t> to_cdr(const Message& message) {
+  typename PubSub<Message>::type type;
+  // The serializer takes a non-const pointer but does not modify the sample.
+  auto* sample = const_cast<Message*>(&message);
+  eprosima::fastrtps::rtps::SerializedPayload_t payload(type.getSerializedSizeProvider(sample)());
+  if (!type.serialize(sample, &payload))
+    throw std::runtime_error(std::string("cannot serialise a ") + type.getName());
+  return {payload.data, payload.data + payload.length};
+}
+
+template <typename Message>
+Message from_cdr(std::span<const std::uint8_t> cdr) {
+  typename PubSub<Message>::type type;
+  if (cdr.size() < 4 || cdr.size() > std::uint64_t(1) << 31)
+    throw std::invalid_argument(std::string(type.getName()) + ": " + std::to_string(cdr.size()) +
+                                " bytes cannot be a sample");
+  eprosima::fastrtps::rtps::SerializedPayload_t payload(std::uint32_t(cdr.size()));
+  std::memcpy(payload.data, cdr.data(), cdr.size());
+  payload.length = std::uint32_t(cdr.size());
+  Message out;
+  if (!type.deserialize(&payload, &out))
+    throw std::invalid_argument(std::string(type.getName()) + ": the bytes do not parse as CDR");
+  return out;
+}
+
+#define OMNISWEEP_ROS2_CDR(Type)                                \
+  template std::vector<std::uint8_t> to_cdr<Type>(const Type&); \
+  template Type from_cdr<Type>(std::span<const std::uint8_t>);
+OMNISWEEP_ROS2_TYPES(OMNISWEEP_ROS2_CDR)
+#undef OMNISWEEP_ROS2_CDR
+#undef OMNISWEEP_ROS2_TYPES
 
 }  // namespace omnisweep::ros2

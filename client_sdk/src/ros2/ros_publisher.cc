@@ -36,9 +36,6 @@ fdds::TypeSupport ros_type(TopicKind kind) {
   throw dds::DdsError("not a ROS 2 topic: " + std::string(dds::topic_spec(kind).suffix));
 }
 
-constexpr TopicKind kFrameTopics[] = {TopicKind::kRosColor, TopicKind::kRosCompressedDepth,
-                                      TopicKind::kRosDistance, TopicKind::kRosPoints};
-
 }  // namespace
 
 void add_ros_topics(dds::Participant& participant, const std::string& ros_namespace) {
@@ -68,8 +65,7 @@ RosPublisher::RosPublisher(dds::Participant& participant, const RosOptions& opti
     : participant_(&participant),
       options_(options),
       listener_(std::make_unique<Listener>(*this)),
-      distance_codec_(codec::make_distance_codec("qinv16-zstd")),
-      color_codec_(codec::make_color_codec("jpeg")) {
+      converter_(options) {
   options_.check();
   add_ros_topics(participant, options_.ros_namespace);
   fdds::Publisher& publisher = participant.publisher();
@@ -104,11 +100,7 @@ RosPublisher::~RosPublisher() {
   }
 }
 
-bool RosPublisher::wants_frames() const {
-  for (const TopicKind kind : kFrameTopics)
-    if (readers(kind) > 0) return true;
-  return false;
-}
+bool RosPublisher::wants_frames() const { return wanted().any(); }
 
 template <typename Message>
 void RosPublisher::write(TopicKind kind, Message& message) {
@@ -123,44 +115,38 @@ void RosPublisher::publish_static(std::uint64_t stamp_ns, const std::vector<Rigi
   write(TopicKind::kRosTfStatic, m);
 }
 
-void RosPublisher::publish_frame(const FrameInputs& frame) {
-  const bool color = readers(TopicKind::kRosColor) > 0;
-  const bool depth = readers(TopicKind::kRosCompressedDepth) > 0;
-  const bool distance = readers(TopicKind::kRosDistance) > 0;
-  const bool points = readers(TopicKind::kRosPoints) > 0;
-  if (color) {
-    auto m = compressed_color(make_header(frame.stamp_ns, options_.panorama_frame()), frame.jpeg);
-    write(TopicKind::kRosColor, m);
-  }
-  if (!depth && !distance && !points) return;
-  if (frame.distance_codec != distance_codec_->name())
-    distance_codec_ = codec::make_distance_codec(frame.distance_codec);
-  // The stream's own levels: compressedDepth carries them losslessly, and the metres of the
-  // image and the points are what every subscriber of the stream decodes.
-  const Image<std::uint16_t> levels = distance_codec_->decode_levels(
-      frame.distance, frame.width, frame.height, frame.distance_params);
-  if (depth) {
-    auto m = compressed_depth(make_header(frame.stamp_ns, options_.panorama_frame()), levels,
-                              frame.distance_params);
-    write(TopicKind::kRosCompressedDepth, m);
-  }
-  if (!distance && !points) return;
-  const FloatImage metres =
-      distance_codec_->decode(frame.distance, frame.width, frame.height, frame.distance_params);
-  if (distance) {
-    auto m = distance_image(make_header(frame.stamp_ns, options_.panorama_frame()), metres);
-    write(TopicKind::kRosDistance, m);
-  }
-  if (points) {
-    Rgb8Image decoded;
-    const Rgb8Image* rgb = frame.color;
-    if (!rgb) {
-      decoded = color_codec_->decode(frame.jpeg, frame.width, frame.height);
-      rgb = &decoded;
-    }
-    auto m = point_cloud(make_header(frame.stamp_ns, options_.rig_frame()), metres, *rgb,
-                         frame.viewpoint, options_.points_width, options_.points_height);
-    write(TopicKind::kRosPoints, m);
+WantedTopics RosPublisher::wanted() const {
+  return {readers(TopicKind::kRosColor) > 0, readers(TopicKind::kRosCompressedDepth) > 0,
+          readers(TopicKind::kRosDistance) > 0, readers(TopicKind::kRosPoints) > 0};
+}
+
+FrameMessages RosPublisher::publish_frame(const FrameInputs& frame, const WantedTopics& also) {
+  const WantedTopics dds = wanted();
+  FrameMessages m = converter_.convert(frame, dds | also);
+  if (dds.color) write(TopicKind::kRosColor, *m.color);
+  if (dds.compressed_depth) write(TopicKind::kRosCompressedDepth, *m.compressed_depth);
+  if (dds.distance) write(TopicKind::kRosDistance, *m.distance);
+  if (dds.points) write(TopicKind::kRosPoints, *m.points);
+  return m;
+}
+
+void RosPublisher::publish_recorded(TopicKind kind, std::span<const std::uint8_t> cdr) {
+  const auto replay = [&]<typename Message>(Message message) { write(kind, message); };
+  switch (kind) {
+    case TopicKind::kRosColor:
+    case TopicKind::kRosCompressedDepth:
+      return replay(from_cdr<sensor_msgs::msg::CompressedImage>(cdr));
+    case TopicKind::kRosDistance:
+      return replay(from_cdr<sensor_msgs::msg::Image>(cdr));
+    case TopicKind::kRosPoints:
+      return replay(from_cdr<sensor_msgs::msg::PointCloud2>(cdr));
+    case TopicKind::kRosTfStatic:
+      return replay(from_cdr<tf2_msgs::msg::TFMessage>(cdr));
+    case TopicKind::kRosDiagnostics:
+      return replay(from_cdr<diagnostic_msgs::msg::DiagnosticArray>(cdr));
+    default:
+      throw std::invalid_argument("not a ROS 2 topic: " +
+                                  std::string(dds::topic_spec(kind).suffix));
   }
 }
 

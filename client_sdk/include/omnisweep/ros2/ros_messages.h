@@ -7,6 +7,8 @@
 
 #include <Eigen/Core>
 #include <cstdint>
+#include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -69,5 +71,61 @@ tf2_msgs::msg::TFMessage static_transforms(std::uint64_t stamp_ns, const RosOpti
 diagnostic_msgs::msg::DiagnosticArray diagnostics(std::uint64_t stamp_ns, const std::string& name,
                                                   const std::string& hardware_id,
                                                   const msg::ServerStatus& status);
+
+// One frame of the stream, as the converter needs it (views: nothing is copied until a message
+// is made).
+struct FrameInputs {
+  std::uint64_t stamp_ns = 0;              // header.stamp: the capture time (the earliest camera's)
+  int width = 0, height = 0;               // panorama
+  std::span<const std::uint8_t> jpeg;      // the colour payload ("jpeg")
+  std::span<const std::uint8_t> distance;  // the distance payload
+  std::string distance_codec = "qinv16-zstd";
+  codec::DistanceParams distance_params;
+  // The colour the point cloud takes; null: the JPEG is decoded when the points are wanted.
+  const Rgb8Image* color = nullptr;
+  Eigen::Vector3d viewpoint = Eigen::Vector3d::Zero();  // rig frame
+};
+// The inputs of a frame of the stream as received (its payloads' CRCs and parameters checked;
+// throws wire::WireError naming the field at fault). Views into `frame`.
+FrameInputs frame_inputs(const msg::RgbdFrame& frame);
+// The rig's camera poses of a stream description (for static_transforms).
+std::vector<Rigid3d> rig_from_cameras(const msg::StreamDescription& description);
+
+// Which frame topics to make.
+struct WantedTopics {
+  bool color = false, compressed_depth = false, distance = false, points = false;
+  bool any() const { return color || compressed_depth || distance || points; }
+  WantedTopics operator|(const WantedTopics& o) const {
+    return {color || o.color, compressed_depth || o.compressed_depth, distance || o.distance,
+            points || o.points};
+  }
+};
+
+struct FrameMessages {
+  std::optional<sensor_msgs::msg::CompressedImage> color, compressed_depth;
+  std::optional<sensor_msgs::msg::Image> distance;
+  std::optional<sensor_msgs::msg::PointCloud2> points;
+};
+
+// Makes a frame's ROS messages, only those wanted: the distance payload is decoded once (to its
+// levels, then metres) and only when a distance topic is wanted.
+class FrameConverter {
+ public:
+  explicit FrameConverter(const RosOptions& options);
+  // Throws codec::CodecError for a payload that does not decode.
+  FrameMessages convert(const FrameInputs& frame, const WantedTopics& wanted);
+
+ private:
+  RosOptions options_;
+  std::unique_ptr<codec::DistanceCodec> distance_codec_;
+  std::unique_ptr<codec::ColorCodec> color_codec_;
+};
+
+// A message's CDR serialisation with its encapsulation header, as DDS sends it and rosbag2 and
+// Foxglove store it; and back (throws std::invalid_argument when `cdr` does not parse).
+template <typename Message>
+std::vector<std::uint8_t> to_cdr(const Message& message);
+template <typename Message>
+Message from_cdr(std::span<const std::uint8_t> cdr);
 
 }  // namespace omnisweep::ros2

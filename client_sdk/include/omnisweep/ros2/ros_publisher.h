@@ -16,6 +16,7 @@
 #include "omnisweep/dds/participant.h"
 #include "omnisweep/geometry/rigid3.h"
 #include "omnisweep/image/image.h"
+#include "omnisweep/ros2/ros_messages.h"
 #include "omnisweep/ros2/ros_options.h"
 #include "omnisweep_msgs.h"
 
@@ -24,20 +25,6 @@ class DataWriter;
 }  // namespace eprosima::fastdds::dds
 
 namespace omnisweep::ros2 {
-
-// One frame of the stream, as the publisher needs it (views: nothing is copied until a message
-// is made).
-struct FrameInputs {
-  std::uint64_t stamp_ns = 0;              // header.stamp: the capture time (the earliest camera's)
-  int width = 0, height = 0;               // panorama
-  std::span<const std::uint8_t> jpeg;      // the colour payload ("jpeg")
-  std::span<const std::uint8_t> distance;  // the distance payload
-  std::string distance_codec = "qinv16-zstd";
-  codec::DistanceParams distance_params;
-  // The colour the point cloud takes; null: the JPEG is decoded when the points are wanted.
-  const Rgb8Image* color = nullptr;
-  Eigen::Vector3d viewpoint = Eigen::Vector3d::Zero();  // rig frame
-};
 
 // Registers the ROS 2 types and makes every ROS topic of kTopics on `participant` under
 // `ros_namespace` (dds::Participant::topic(kind) then returns them), for writers and readers.
@@ -62,9 +49,15 @@ class RosPublisher {
   // /tf_static, once (TRANSIENT_LOCAL: late joiners get it).
   void publish_static(std::uint64_t stamp_ns, const std::vector<Rigid3d>& rig_from_cam,
                       const Eigen::Vector3d& viewpoint);
-  // The frame topics that have readers. Throws codec::CodecError for a payload that does not
-  // decode, dds::DdsError when Fast DDS refuses a sample.
-  void publish_frame(const FrameInputs& frame);
+  // The frame topics that have readers, and those `also` asks for (a Foxglove client's); returns
+  // the messages made. Throws codec::CodecError for a payload that does not decode,
+  // dds::DdsError when Fast DDS refuses a sample.
+  FrameMessages publish_frame(const FrameInputs& frame, const WantedTopics& also = {});
+  // The topics some DDS reader reads now.
+  WantedTopics wanted() const;
+  // A recorded sample (its CDR bytes, as omnisweep-record wrote them) on its topic. Throws
+  // std::invalid_argument when the bytes do not parse as the topic's type.
+  void publish_recorded(dds::TopicKind kind, std::span<const std::uint8_t> cdr);
   // /diagnostics (name "omnisweep-server: <namespace>").
   void publish_diagnostics(std::uint64_t stamp_ns, const msg::ServerStatus& status);
 
@@ -78,8 +71,7 @@ class RosPublisher {
   std::unique_ptr<Listener> listener_;
   std::array<std::atomic<int>, dds::kTopics.size()> matched_{};
   std::array<eprosima::fastdds::dds::DataWriter*, dds::kTopics.size()> writers_{};
-  std::unique_ptr<codec::DistanceCodec> distance_codec_;
-  std::unique_ptr<codec::ColorCodec> color_codec_;
+  FrameConverter converter_;
 };
 
 }  // namespace omnisweep::ros2
