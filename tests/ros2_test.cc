@@ -21,6 +21,7 @@
 #include <map>
 #include <mutex>
 #include <nlohmann/json.hpp>
+#include <regex>
 #include <set>
 #include <thread>
 
@@ -420,13 +421,17 @@ TEST_F(Ros2Test, RecordingHoldsTheRosTopicsFoxgloveReadsAndPlayReplays) {
                          dir_.path() / "play.log");
   std::set<std::uint64_t> replayed;
   const auto deadline = Clock::now() + std::chrono::seconds(30);
+  bool playing = true;
   while (replayed.size() < 8 && Clock::now() < deadline) {
     if (auto m = ros.take<sensor_msgs::msg::CompressedImage>(TopicKind::kRosColor)) {
       const std::uint64_t stamp = ros2::stamp_ns(m->header().stamp());
       ASSERT_TRUE(frames.count(stamp));
       EXPECT_EQ(m->data(), frames[stamp].color().data());
       replayed.insert(stamp);
+    } else if (!playing) {
+      break;  // play has ended and every sample it sent is taken
     } else {
+      playing = play.running();
       std::this_thread::sleep_for(std::chrono::milliseconds(10));
     }
   }
@@ -434,6 +439,128 @@ TEST_F(Ros2Test, RecordingHoldsTheRosTopicsFoxgloveReadsAndPlayReplays) {
   EXPECT_GE(replayed.size(), 5u) << play.log();
   double seconds = 0;
   play.stop(SIGTERM, 5, &seconds);
+}
+
+// Foxglove's own client (@foxglove/ws-protocol under Node) on a running server: every channel is
+// advertised and decodes under the sent schema and Humble's and Jazzy's definitions to the
+// stream's images; bad client messages get error statuses on a connection that lives on; a
+// stalled client loses messages while another keeps receiving.
+TEST_F(Ros2Test, FoxgloveClientsSeeTheStreamLive) {
+  const fs::path node_dir = testing::mcap_node_dir();
+  ASSERT_TRUE(fs::exists(node_dir / "node_modules/@foxglove/ws-protocol"))
+      << "the mcap_node_setup test installs the Node packages in " << node_dir;
+  StreamFrames stream(participant_options());
+  BackgroundProcess server(
+      server_command(" --foxglove-port 0 --foxglove-address 127.0.0.1 --foxglove-client-queue "
+                     "65536 --ros-points 64 32 --log-interval 1"),
+      dir_.path() / "server.log");
+  std::smatch match;
+  const std::regex address("ws://127\\.0\\.0\\.1:([0-9]+)");
+  const auto deadline = Clock::now() + std::chrono::seconds(60);
+  std::string log;
+  while (!std::regex_search(log = server.log(), match, address) && Clock::now() < deadline &&
+         server.running())
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  ASSERT_FALSE(match.empty()) << log;
+  const std::string url = "ws://127.0.0.1:" + match[1].str();
+  const std::string client = "node " + (node_dir / "foxglove_client.mjs").string() + " ";
+
+  std::string out;
+  ASSERT_EQ(run_command(client + "collect " + url + " 3", &out), 0) << out << server.log();
+  const auto json = nlohmann::json::parse(out.substr(out.find('{')));
+  EXPECT_EQ(json["serverInfo"]["name"], "omnisweep");
+  EXPECT_EQ(json["channels"].size(), 6u);
+  std::this_thread::sleep_for(std::chrono::milliseconds(500));  // the stream's last frames
+  const std::string ns = ros_namespace();
+  std::map<std::string, int> checked;
+  std::size_t bytes = 0;
+  for (const auto& m : json["messages"]) {
+    const std::string topic = m["topic"];
+    if (m.contains("bytes")) bytes += m["bytes"].get<std::size_t>();
+    if (topic == "/tf_static") {
+      EXPECT_EQ(m["children"].size(), 5u);
+      ++checked[topic];
+      continue;
+    }
+    if (topic == "/diagnostics") {
+      EXPECT_FALSE(m["fps"].is_null());
+      ++checked[topic];
+      continue;
+    }
+    const auto frame = stream.at(std::stoull(m["stamp"].get<std::string>()));
+    if (!frame) continue;
+    EXPECT_EQ(m["timestamp"], m["stamp"]);  // the message time is the capture time
+    const FloatImage want = stream_distance(*frame);
+    if (topic == ns + "/color/image_raw/compressed") {
+      EXPECT_EQ(m["crc32"], frame->color().crc32()) << "the JPEG is the stream's bytes";
+      EXPECT_EQ(m["width"], 256);
+    } else if (topic == ns + "/distance/image_raw/compressedDepth") {
+      const double bound = wire::from_message(frame->distance_params()).max_quantisation_error();
+      for (const auto& sample : m["samples"]) {
+        const float stream_value = want.data()[sample[0].get<std::size_t>()];
+        if (stream_value == 0.0f)
+          EXPECT_TRUE(sample[1].is_null());
+        else
+          ASSERT_NEAR(1.0 / sample[1].get<double>(), 1.0 / stream_value, 0.05 * bound);
+      }
+    } else if (topic == ns + "/distance/image_raw") {
+      EXPECT_EQ(m["bytes"], 256 * 128 * 4);
+    } else if (topic == ns + "/points") {
+      const Eigen::Vector3d viewpoint(frame->viewpoint().x(), frame->viewpoint().y(),
+                                      frame->viewpoint().z());
+      int on_map = 0;
+      for (const auto& p : m["points"]) {
+        if (p.is_null()) continue;
+        const Eigen::Vector3d ray =
+            Eigen::Vector3d(p[0].get<double>(), p[1].get<double>(), p[2].get<double>()) - viewpoint;
+        const Eigen::Vector2d pixel = equirect_pixel<double>(ray, 256, 128);
+        const float d = want(int(std::lround(pixel.x())) % 256, int(std::lround(pixel.y())));
+        ASSERT_NEAR(ray.norm(), d, 1e-4 * d);
+        ++on_map;
+      }
+      EXPECT_GT(on_map, 20);
+    }
+    ++checked[topic];
+  }
+  for (const char* topic : {"/color/image_raw/compressed", "/distance/image_raw/compressedDepth",
+                            "/distance/image_raw", "/points"})
+    EXPECT_GE(checked[ns + topic], 2) << topic;
+  EXPECT_EQ(checked["/tf_static"], 1);
+  EXPECT_GE(checked["/diagnostics"], 1);
+  std::cout << "Foxglove client: " << json["messages"].size() << " messages, " << bytes
+            << " bytes of images and points, each checked against the stream\n";
+
+  ASSERT_EQ(run_command(client + "abuse " + url, &out), 0) << out;
+  const auto abuse = nlohmann::json::parse(out.substr(out.find('{')));
+  EXPECT_EQ(abuse["refused"], "HTTP 400");  // no Foxglove subprotocol
+  std::vector<std::string> statuses;
+  for (const auto& status : abuse["statuses"]) {
+    EXPECT_EQ(status["level"], 2);
+    statuses.push_back(status["message"]);
+  }
+  EXPECT_EQ(statuses,
+            (std::vector<std::string>{
+                "not valid JSON", "op \"getParameters\" is not supported (subscribe, unsubscribe)",
+                "channel 99999 is not advertised", "no subscription 42",
+                "message of 200068 bytes; the limit is 65536",
+                "binary client messages are not supported", "JSON nested deeper than 16 levels"}));
+  EXPECT_TRUE(abuse["gotMessage"]) << "the connection serves a subscription after all that";
+
+  ASSERT_EQ(run_command(client + "stall " + url + " 25", &out), 0) << out << server.log();
+  const auto stall = nlohmann::json::parse(out.substr(out.find('{')));
+  EXPECT_EQ(stall["live"], 25);
+  std::this_thread::sleep_for(std::chrono::milliseconds(1500));  // a status line after it
+  log = server.log();
+  const std::regex dropped("([0-9]+) dropped by slow clients");
+  std::uint64_t drops = 0;
+  for (auto it = std::sregex_iterator(log.begin(), log.end(), dropped);
+       it != std::sregex_iterator(); ++it)
+    drops = std::stoull((*it)[1].str());
+  EXPECT_GT(drops, 0u) << "the stalled client lost messages\n" << log;
+  std::cout << "stalled client: the other received " << stall["live"] << " colour images in "
+            << stall["seconds"] << " s; " << drops << " messages dropped for the stalled one\n";
+  double seconds = 0;
+  EXPECT_EQ(server.stop(SIGTERM, 5, &seconds), 0) << server.log();
 }
 
 #ifdef OMNISWEEP_CYCLONE_SUBSCRIBER

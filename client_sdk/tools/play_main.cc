@@ -14,6 +14,7 @@
 #include "client_sdk/tools/ros2_flags.h"
 #include "client_sdk/tools/tool_main.h"
 #include "omnisweep/dds/stream_publisher.h"
+#include "omnisweep/foxglove/ros_channels.h"
 #include "omnisweep/record/stream_recording.h"
 #include "omnisweep/ros2/ros_publisher.h"
 
@@ -71,6 +72,8 @@ int run(int argc, char** argv) {
   tools::add_ros2_flags(app, ros_flags,
                         "Do not publish the ROS 2 topics (by default: the recorded ones, or, for a "
                         "recording without them, made from its frames as omnisweep-server does)");
+  tools::FoxgloveFlags foxglove_flags;
+  tools::add_foxglove_flags(app, foxglove_flags);
   CLI11_PARSE(app, argc, argv);
   if (list_only) return list(file);
   std::signal(SIGINT, on_signal);
@@ -99,10 +102,18 @@ int run(int argc, char** argv) {
     ros_flags.options.ros_namespace = *recorded_namespace;
   std::optional<ros2::RosOptions> ros_options =
       tools::ros2_options(app, ros_flags, options.topic_prefix);
+  const auto fox_options = tools::foxglove_options(app, foxglove_flags, ros_options.has_value());
   dds::StreamPublisher publisher(options, frame_profile, confidence);
   std::unique_ptr<ros2::RosPublisher> ros;
   if (ros_options)
     ros = std::make_unique<ros2::RosPublisher>(publisher.participant(), *ros_options);
+  std::unique_ptr<foxglove::FoxgloveServer> fox;
+  if (fox_options) {
+    fox = std::make_unique<foxglove::FoxgloveServer>(
+        *fox_options, foxglove::ros_channels(ros_options->ros_namespace));
+    std::printf("omnisweep-play: Foxglove WebSocket server on ws://%s:%d\n",
+                fox_options->address.c_str(), fox->port());
+  }
   // Recorded ROS topics are replayed as recorded; a recording without them gets them made from
   // its frames, as omnisweep-server makes them.
   const bool derive_ros = ros && !recorded_namespace;
@@ -141,18 +152,27 @@ int run(int argc, char** argv) {
       if (g_stop) return false;
       if (ros_kind) {
         ros->publish_recorded(*ros_kind, m.data);
+        if (fox) foxglove::publish(*fox, *ros_kind, m.publish_time_ns, m.data);
       } else if (*kind == dds::TopicKind::kDescription) {
         record::decode_message(m.data, description);
         description.topic_prefix(options.topic_prefix);
         publisher.publish(description);
-        if (derive_ros)
-          ros->publish_static(m.log_time_ns, ros2::rig_from_cameras(description),
-                              {description.viewpoint().x(), description.viewpoint().y(),
-                               description.viewpoint().z()});
+        if (derive_ros) {
+          const auto tf =
+              ros->publish_static(m.log_time_ns, ros2::rig_from_cameras(description),
+                                  {description.viewpoint().x(), description.viewpoint().y(),
+                                   description.viewpoint().z()});
+          if (fox)
+            foxglove::publish(*fox, dds::TopicKind::kRosTfStatic, m.log_time_ns, ros2::to_cdr(tf));
+        }
       } else if (*kind == dds::TopicKind::kFrames) {
         record::decode_message(m.data, frame);
         publisher.publish(frame);
-        if (derive_ros && ros->wants_frames()) ros->publish_frame(ros2::frame_inputs(frame));
+        const ros2::WantedTopics also = fox ? foxglove::wanted(*fox) : ros2::WantedTopics{};
+        if (derive_ros && (ros->wants_frames() || also.any())) {
+          const auto messages = ros->publish_frame(ros2::frame_inputs(frame), also);
+          if (fox) foxglove::publish(*fox, messages);
+        }
         ++frames;
       } else if (*kind == dds::TopicKind::kConfidence) {
         record::decode_message(m.data, frame_confidence);
@@ -160,7 +180,12 @@ int run(int argc, char** argv) {
       } else {
         record::decode_message(m.data, status);
         publisher.publish(status);
-        if (derive_ros) ros->publish_diagnostics(status.time_ns(), status);
+        if (derive_ros) {
+          const auto diagnostics = ros->publish_diagnostics(status.time_ns(), status);
+          if (fox)
+            foxglove::publish(*fox, dds::TopicKind::kRosDiagnostics, status.time_ns(),
+                              ros2::to_cdr(diagnostics));
+        }
       }
       return true;
     });

@@ -6,6 +6,7 @@
 #include <fstream>
 #include <stdexcept>
 
+#include "omnisweep/foxglove/ros_channels.h"
 #include "omnisweep/wire/wire.h"
 #include "server/depth/depth_estimator.h"
 #include "server/depth/depth_inputs.h"
@@ -40,6 +41,9 @@ void ServerOptions::check() const {
     throw std::invalid_argument("JPEG quality must be 1-100");
   distance.check();
   if (ros2) ros2->check();
+  if (foxglove && !ros2)
+    throw std::invalid_argument("the Foxglove server serves the ROS 2 topics; it needs them on");
+  if (foxglove) foxglove->check();
 }
 
 // One frame on its way through the pipeline.
@@ -117,6 +121,16 @@ RgbdServer::RgbdServer(std::unique_ptr<capture::FrameSource> source, gpu::Contex
   if (!options_.dump_dir.empty()) std::filesystem::create_directories(options_.dump_dir);
   if (options_.ros2)
     ros_ = std::make_unique<ros2::RosPublisher>(publisher.participant(), *options_.ros2);
+  if (options_.foxglove) {
+    foxglove_ = std::make_unique<foxglove::FoxgloveServer>(
+        *options_.foxglove, foxglove::ros_channels(options_.ros2->ros_namespace));
+  }
+}
+
+int RgbdServer::foxglove_port() const { return foxglove_ ? foxglove_->port() : 0; }
+
+bool RgbdServer::ros_wanted() const {
+  return ros_ && (ros_->wants_frames() || (foxglove_ && foxglove::wanted(*foxglove_).any()));
 }
 
 RgbdServer::~RgbdServer() {
@@ -130,7 +144,10 @@ void RgbdServer::start() {
   if (ros_) {
     std::vector<Rigid3d> rig_from_cam;
     for (const auto& camera : source_->rig().cameras) rig_from_cam.push_back(camera.rig_from_cam);
-    ros_->publish_static(wall_clock_ns(), rig_from_cam, stages_->stitcher.viewpoint());
+    const std::uint64_t now = wall_clock_ns();
+    const auto tf = ros_->publish_static(now, rig_from_cam, stages_->stitcher.viewpoint());
+    if (foxglove_)
+      foxglove::publish(*foxglove_, dds::TopicKind::kRosTfStatic, now, ros2::to_cdr(tf));
   } else {
     ros_ended_ = true;
   }
@@ -335,7 +352,8 @@ void RgbdServer::encode_loop() {
           .write(reinterpret_cast<const char*>(job.panorama.distance.data()),
                  std::streamsize(job.panorama.distance.size() * sizeof(float)));
     }
-    if (ros_ && ros_->readers(dds::TopicKind::kRosPoints) > 0)
+    if (ros_ && (ros_->readers(dds::TopicKind::kRosPoints) > 0 ||
+                 (foxglove_ && foxglove::wanted(*foxglove_).points)))
       job.ros_color = std::move(job.panorama.rgb);
     job.panorama = {};
     add_stage_time("encode", ms_since(start));
@@ -356,8 +374,7 @@ void RgbdServer::publish_loop() {
       ++published_window_;
       if (state_ == "starting") state_ = "running";  // the first frame is out
     }
-    if (ros_ && ros_->wants_frames() && stages_->to_ros.push(std::move(*item)))
-      count_drop("ros busy");
+    if (ros_wanted() && stages_->to_ros.push(std::move(*item))) count_drop("ros busy");
     if (++published_ == options_.max_frames && options_.max_frames > 0) {
       finished_ = true;
       done_.notify_all();
@@ -384,7 +401,9 @@ void RgbdServer::ros_loop() {
     frame.distance_params = options_.distance;
     if (!job.ros_color.empty()) frame.color = &job.ros_color;
     frame.viewpoint = stages_->stitcher.viewpoint();
-    ros_->publish_frame(frame);
+    const ros2::FrameMessages messages =
+        ros_->publish_frame(frame, foxglove_ ? foxglove::wanted(*foxglove_) : ros2::WantedTopics{});
+    if (foxglove_) foxglove::publish(*foxglove_, messages);
     add_stage_time("ros", ms_since(start));
   }
 }
@@ -460,7 +479,12 @@ void RgbdServer::status_loop() {
     for (const auto& h : health) frames_before.push_back(h.frames);
     status.cameras(cameras);
     publisher_->publish(status);
-    if (ros_) ros_->publish_diagnostics(status.time_ns(), status);
+    if (ros_) {
+      const auto diagnostics = ros_->publish_diagnostics(status.time_ns(), status);
+      if (foxglove_)
+        foxglove::publish(*foxglove_, dds::TopicKind::kRosDiagnostics, status.time_ns(),
+                          ros2::to_cdr(diagnostics));
+    }
     since_log += 1.0;
     if (options_.log_interval_s > 0 && since_log >= options_.log_interval_s) {
       since_log = 0;
@@ -472,12 +496,20 @@ void RgbdServer::status_loop() {
       }
       std::uint64_t drops = 0;
       for (const auto& d : status.dropped()) drops += d.count();
+      std::string foxglove;
+      if (foxglove_) {
+        const foxglove::FoxgloveStats f = foxglove_->stats();
+        foxglove = ", Foxglove: " + std::to_string(f.clients) + " clients, " +
+                   std::to_string(f.sent) + " sent, " + std::to_string(f.dropped) +
+                   " dropped by slow clients, " + std::to_string(f.refused) + " bad requests";
+      }
       std::fprintf(stderr,
                    "omnisweep-server: %s, %.0f fps in, %.0f fps out, ms:%s, %llu dropped, %d "
-                   "subscribers, %llu published, colour quality %d\n",
+                   "subscribers, %llu published, colour quality %d%s\n",
                    status.state().c_str(), status.fps_in(), status.fps_out(), stages.c_str(),
                    static_cast<unsigned long long>(drops), status.matched_subscribers(),
-                   static_cast<unsigned long long>(published_.load()), status.color_quality());
+                   static_cast<unsigned long long>(published_.load()), status.color_quality(),
+                   foxglove.c_str());
     }
   }
 }

@@ -17,6 +17,7 @@
 
 #include "omnisweep/codec/codec.h"
 #include "omnisweep/dds/stream_publisher.h"
+#include "omnisweep/foxglove/foxglove_server.h"
 #include "omnisweep/gpu/context.h"
 #include "omnisweep/ros2/ros_publisher.h"
 #include "server/capture/frame_source.h"
@@ -47,6 +48,8 @@ struct ServerOptions {
   // nothing until a reader matches it; the conversion runs on a thread of its own ("ros"),
   // which drops frames ("ros busy") rather than slow the stream.
   std::optional<ros2::RosOptions> ros2;
+  // A Foxglove WebSocket server for the ROS 2 topics (needs `ros2`); none when unset.
+  std::optional<foxglove::FoxgloveOptions> foxglove;
   // A temporal filter on the distance (stitch/temporal_filter.h); none by default.
   std::optional<stitch::TemporalOptions> temporal;
   bool exit_on_source_end = false;  // else a stalled or ended source is reported and retried
@@ -72,6 +75,8 @@ class RgbdServer {
   // The error that ended the server, if any.
   std::string error() const;
   std::uint64_t frames_published() const { return published_; }
+  // The Foxglove server's port (ServerOptions::foxglove), 0 without one.
+  int foxglove_port() const;
   // True once the threads that use the publisher (publish, status, ros) have ended.
   bool publisher_released() const { return publish_ended_ && status_ended_ && ros_ended_; }
 
@@ -94,7 +99,9 @@ class RgbdServer {
   ServerOptions options_;
   struct Stages;
   std::unique_ptr<Stages> stages_;
-  std::unique_ptr<ros2::RosPublisher> ros_;  // ServerOptions::ros2
+  std::unique_ptr<ros2::RosPublisher> ros_;             // ServerOptions::ros2
+  std::unique_ptr<foxglove::FoxgloveServer> foxglove_;  // ServerOptions::foxglove
+  bool ros_wanted() const;  // some DDS reader or Foxglove client reads a frame topic
 
   std::atomic<bool> stop_{false};
   std::atomic<bool> finished_{false};

@@ -91,11 +91,14 @@ int run(int argc, char** argv) {
   tools::add_ros2_flags(app, ros_flags,
                         "Do not publish the ROS 2 topics (docs/ros2.md); by default they exist and "
                         "cost nothing until a ROS reader matches one");
+  tools::FoxgloveFlags foxglove_flags;
+  tools::add_foxglove_flags(app, foxglove_flags);
   app.add_option("--dump", options.dump_dir,
                  "Write <seq>.jpg and <seq>_distance.f32 (float32 metres) of every frame here");
   app.add_option("--log-interval", options.log_interval_s,
-                 "Seconds between status lines on stderr (0: none)")
-      ->check(CLI::Range(0.0, 86400.0));
+                 "Seconds between status lines on stderr (0: none; given twice, the last counts)")
+      ->check(CLI::Range(0.0, 86400.0))
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
   CLI11_PARSE(app, argc, argv);
   options.panorama_width = panorama[0];
   options.panorama_height = panorama[1];
@@ -103,6 +106,7 @@ int run(int argc, char** argv) {
   if (!viewpoint.empty())
     options.viewpoint = Eigen::Vector3d(viewpoint[0], viewpoint[1], viewpoint[2]);
   options.ros2 = tools::ros2_options(app, ros_flags, dds_options.topic_prefix);
+  options.foxglove = tools::foxglove_options(app, foxglove_flags, options.ros2.has_value());
   if (light) {
     options.distance.levels = codec::kLightDistance.levels;
     options.distance.downsample = codec::kLightDistance.downsample;
@@ -146,6 +150,10 @@ int run(int argc, char** argv) {
                  "%s_*)\n",
                  options.ros2->ros_namespace == "/" ? "" : options.ros2->ros_namespace.c_str(),
                  options.ros2->frame_prefix.c_str());
+  }
+  if (server->foxglove_port()) {
+    std::fprintf(stderr, "omnisweep-server: Foxglove WebSocket server on ws://%s:%d\n",
+                 options.foxglove->address.c_str(), server->foxglove_port());
   }
   server->start();
 

@@ -109,10 +109,12 @@ void RosPublisher::write(TopicKind kind, Message& message) {
   }
 }
 
-void RosPublisher::publish_static(std::uint64_t stamp_ns, const std::vector<Rigid3d>& rig_from_cam,
-                                  const Eigen::Vector3d& viewpoint) {
+tf2_msgs::msg::TFMessage RosPublisher::publish_static(std::uint64_t stamp_ns,
+                                                      const std::vector<Rigid3d>& rig_from_cam,
+                                                      const Eigen::Vector3d& viewpoint) {
   tf2_msgs::msg::TFMessage m = static_transforms(stamp_ns, options_, rig_from_cam, viewpoint);
   write(TopicKind::kRosTfStatic, m);
+  return m;
 }
 
 WantedTopics RosPublisher::wanted() const {
@@ -150,10 +152,12 @@ void RosPublisher::publish_recorded(TopicKind kind, std::span<const std::uint8_t
   }
 }
 
-void RosPublisher::publish_diagnostics(std::uint64_t stamp_ns, const msg::ServerStatus& status) {
+diagnostic_msgs::msg::DiagnosticArray RosPublisher::publish_diagnostics(
+    std::uint64_t stamp_ns, const msg::ServerStatus& status) {
   auto m = diagnostics(stamp_ns, "omnisweep-server: " + options_.ros_namespace,
                        options_.frame_prefix, status);
   write(TopicKind::kRosDiagnostics, m);
+  return m;
 }
 
 }  // namespace omnisweep::ros2

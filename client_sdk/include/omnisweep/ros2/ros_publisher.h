@@ -46,9 +46,10 @@ class RosPublisher {
   // True when some reader reads one of the frame topics (images, points).
   bool wants_frames() const;
 
-  // /tf_static, once (TRANSIENT_LOCAL: late joiners get it).
-  void publish_static(std::uint64_t stamp_ns, const std::vector<Rigid3d>& rig_from_cam,
-                      const Eigen::Vector3d& viewpoint);
+  // /tf_static, once (TRANSIENT_LOCAL: late joiners get it); returns the message.
+  tf2_msgs::msg::TFMessage publish_static(std::uint64_t stamp_ns,
+                                          const std::vector<Rigid3d>& rig_from_cam,
+                                          const Eigen::Vector3d& viewpoint);
   // The frame topics that have readers, and those `also` asks for (a Foxglove client's); returns
   // the messages made. Throws codec::CodecError for a payload that does not decode,
   // dds::DdsError when Fast DDS refuses a sample.
@@ -58,8 +59,9 @@ class RosPublisher {
   // A recorded sample (its CDR bytes, as omnisweep-record wrote them) on its topic. Throws
   // std::invalid_argument when the bytes do not parse as the topic's type.
   void publish_recorded(dds::TopicKind kind, std::span<const std::uint8_t> cdr);
-  // /diagnostics (name "omnisweep-server: <namespace>").
-  void publish_diagnostics(std::uint64_t stamp_ns, const msg::ServerStatus& status);
+  // /diagnostics (name "omnisweep-server: <namespace>"); returns the message.
+  diagnostic_msgs::msg::DiagnosticArray publish_diagnostics(std::uint64_t stamp_ns,
+                                                            const msg::ServerStatus& status);
 
  private:
   class Listener;
