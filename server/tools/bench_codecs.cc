@@ -28,49 +28,6 @@ namespace {
 // Runs per measurement; the median is reported.
 constexpr int kRuns = 15;
 
-// An estimated 2048x1024 panorama (defaults) of a frame: what the server compresses.
-stitch::Panorama estimate_panorama(gpu::Context& context, const Rig& rig,
-                                   const std::vector<Rgb8Image>& images,
-                                   const std::vector<std::optional<Gray8Image>>& masks_full) {
-  depth::DepthOptions options;
-  const Rig matching_rig = rig.resized(options.matching_width, options.matching_height);
-  const auto usable = depth::matching_masks(masks_full, options);
-  const std::vector<Rgb8Image> matching = depth::matching_images(images, options);
-  depth::DepthEstimator estimator(context, matching_rig, usable, options);
-  const depth::DepthResult result = estimator.estimate(depth::pointers(matching));
-  stitch::Stitcher stitcher(context, matching_rig, rig, options.references, usable, {});
-  return stitcher.stitch({&result.distance[0], &result.distance[1]}, {&images[2], &images[3]});
-}
-
-// Wall and CPU time of one call. CPU time is the whole process's (every thread's), so a codec
-// that spreads its work over threads is charged for all of it.
-struct Cost {
-  double wall_ms = 0, cpu_ms = 0;
-};
-double process_cpu_ms() {
-  timespec t{};
-  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
-  return t.tv_sec * 1e3 + t.tv_nsec * 1e-6;
-}
-template <typename F>
-Cost cost_of(F&& f) {
-  const auto start = std::chrono::steady_clock::now();
-  const double cpu = process_cpu_ms();
-  f();
-  return {
-      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count(),
-      process_cpu_ms() - cpu};
-}
-// Median wall time and median CPU time (each over all the runs).
-Cost median(const std::vector<Cost>& costs) {
-  std::vector<double> wall, cpu;
-  for (const Cost& c : costs) {
-    wall.push_back(c.wall_ms);
-    cpu.push_back(c.cpu_ms);
-  }
-  return {tools::median(wall), tools::median(cpu)};
-}
-
 // Medians of kRuns calls of each of a and b, alternated so both see the same machine load.
 template <typename A, typename B>
 std::pair<Cost, Cost> interleaved(A&& a, B&& b) {
@@ -169,6 +126,20 @@ class Table {
 };
 
 }  // namespace
+
+// An estimated 2048x1024 panorama (defaults) of a frame: what the server compresses.
+stitch::Panorama estimate_panorama(gpu::Context& context, const Rig& rig,
+                                   const std::vector<Rgb8Image>& images,
+                                   const std::vector<std::optional<Gray8Image>>& masks_full) {
+  depth::DepthOptions options;
+  const Rig matching_rig = rig.resized(options.matching_width, options.matching_height);
+  const auto usable = depth::matching_masks(masks_full, options);
+  const std::vector<Rgb8Image> matching = depth::matching_images(images, options);
+  depth::DepthEstimator estimator(context, matching_rig, usable, options);
+  const depth::DepthResult result = estimator.estimate(depth::pointers(matching));
+  stitch::Stitcher stitcher(context, matching_rig, rig, options.references, usable, {});
+  return stitcher.stitch({&result.distance[0], &result.distance[1]}, {&images[2], &images[3]});
+}
 
 void codec_section(gpu::Context& context, const std::string& kaist_dir, bool json) {
   std::vector<std::pair<std::string, stitch::Panorama>> panoramas;

@@ -1,9 +1,14 @@
 // omnisweep-bench's codec section (bench_codecs.cc).
 #pragma once
 
+#include <optional>
 #include <string>
+#include <vector>
 
 #include "omnisweep/gpu/context.h"
+#include "omnisweep/image/image.h"
+#include "omnisweep/rig/rig.h"
+#include "server/stitch/stitcher.h"
 
 namespace omnisweep::tools {
 
@@ -13,5 +18,11 @@ namespace omnisweep::tools {
 // load, then the light setting and JPEG. Wall and CPU ms, sizes, quantisation error, and the
 // ratios against PNG.
 void codec_section(gpu::Context& context, const std::string& kaist_dir, bool json);
+
+// An estimated 2048x1024 panorama (depth and stitching at their defaults) of a frame: what the
+// server compresses.
+stitch::Panorama estimate_panorama(gpu::Context& context, const Rig& rig,
+                                   const std::vector<Rgb8Image>& images,
+                                   const std::vector<std::optional<Gray8Image>>& masks_full);
 
 }  // namespace omnisweep::tools

@@ -32,6 +32,7 @@
 #include "server/tools/bench_model.h"
 #include "server/tools/bench_record.h"
 #include "server/tools/bench_reproject.h"
+#include "server/tools/bench_ros2.h"
 #include "server/tools/bench_security.h"
 #include "server/tools/bench_stats.h"
 #include "server/tools/depth_flags.h"
@@ -278,8 +279,8 @@ int run(int argc, char** argv) {
   std::vector<int> resolutions = {256, 512, 1024};
   int filter_resolution = 1024, iterations = 3;
   bool json = false, skip_fbs = false;
-  std::vector<std::string> sections = {"model",  "accuracy",  "stages", "filters",
-                                       "codecs", "reproject", "record", "security"};
+  std::vector<std::string> sections = {"model",     "accuracy", "stages",   "filters", "codecs",
+                                       "reproject", "record",   "security", "ros2"};
   int model_resolution = 0;
   std::string kaist_dir;
   if (const char* shared = std::getenv("OMNISWEEP_SHARED_DIR"))
@@ -298,12 +299,12 @@ int run(int argc, char** argv) {
       "Vulkan device: index or name substring (default: OMNISWEEP_VK_DEVICE, else the best)");
   app.add_flag("--json", json, "One JSON object per row instead of tables");
   app.add_flag("--skip-fbs", skip_fbs, "Leave out the (slow) fast bilateral solver");
-  app.add_option(
-         "--sections", sections,
-         "What to measure: model, accuracy, stages, filters, codecs, reproject, record, security "
-         "(default: all)")
-      ->check(CLI::IsMember(
-          {"model", "accuracy", "stages", "filters", "codecs", "reproject", "record", "security"}))
+  app.add_option("--sections", sections,
+                 "What to measure: model, accuracy, stages, filters, codecs, reproject, record, "
+                 "security, ros2 "
+                 "(default: all)")
+      ->check(CLI::IsMember({"model", "accuracy", "stages", "filters", "codecs", "reproject",
+                             "record", "security", "ros2"}))
       ->delimiter(',');
   app.add_option("--model-resolution", model_resolution,
                  "Matching resolution of the cost model's frame (panorama 2R x R; default: the "
@@ -346,6 +347,7 @@ int run(int argc, char** argv) {
   if (want("stages")) stage_section(context, resolutions, iterations, json);
   if (want("filters")) filter_section(context, filter_resolution, iterations, skip_fbs, json);
   if (want("codecs")) tools::codec_section(context, kaist_dir, json);
+  if (want("ros2")) tools::ros2_section(context, json);
   if (want("reproject")) tools::reproject_section(context, iterations, json);
   if (want("record")) tools::record_section(json);
   if (want("security")) tools::security_section(OMNISWEEP_SOURCE_DIR, json);
