@@ -139,6 +139,7 @@ TEST_F(RecordTest, KilledRecorderLeavesAReadableFileMissingAtMostOneSecond) {
 }
 
 TEST_F(RecordTest, FoxgloveReaderListsTheChannelsAndCounts) {
+  if (!OMNISWEEP_HAVE_NODE) GTEST_SKIP() << "Node.js was not found when the build was configured";
   const fs::path node_dir = testing::mcap_node_dir();
   ASSERT_TRUE(fs::exists(node_dir / "node_modules/@mcap/core"))
       << "@mcap/core is not installed in " << node_dir

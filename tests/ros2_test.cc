@@ -319,6 +319,7 @@ TEST_F(Ros2Test, BadRosFlagsAreRefused) {
 // @foxglove/rosmsg, rosmsg2-serialization under the recorded, Humble and Jazzy definitions)
 // decode every message to the recorded stream's own images; omnisweep-play replays them on DDS.
 TEST_F(Ros2Test, RecordingHoldsTheRosTopicsFoxgloveReadsAndPlayReplays) {
+  if (!OMNISWEEP_HAVE_NODE) GTEST_SKIP() << "Node.js was not found when the build was configured";
   const fs::path node_dir = testing::mcap_node_dir();
   ASSERT_TRUE(fs::exists(node_dir / "node_modules/@foxglove/rosmsg2-serialization"))
       << "the mcap_node_setup test installs the Node packages in " << node_dir;
@@ -446,6 +447,7 @@ TEST_F(Ros2Test, RecordingHoldsTheRosTopicsFoxgloveReadsAndPlayReplays) {
 // stream's images; bad client messages get error statuses on a connection that lives on; a
 // stalled client loses messages while another keeps receiving.
 TEST_F(Ros2Test, FoxgloveClientsSeeTheStreamLive) {
+  if (!OMNISWEEP_HAVE_NODE) GTEST_SKIP() << "Node.js was not found when the build was configured";
   const fs::path node_dir = testing::mcap_node_dir();
   ASSERT_TRUE(fs::exists(node_dir / "node_modules/@foxglove/ws-protocol"))
       << "the mcap_node_setup test installs the Node packages in " << node_dir;

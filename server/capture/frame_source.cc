@@ -2,24 +2,10 @@
 #include <cmath>
 
 #include "omnisweep/options/option_error.h"
+#include "omnisweep/options/split.h"
 #include "server/capture/sources.h"
 
 namespace omnisweep::capture {
-namespace {
-
-std::vector<std::string> split(const std::string& s, char separator) {
-  std::vector<std::string> out;
-  std::size_t start = 0;
-  while (true) {
-    const std::size_t end = s.find(separator, start);
-    out.push_back(s.substr(start, end - start));
-    if (end == std::string::npos) break;
-    start = end + 1;
-  }
-  return out;
-}
-
-}  // namespace
 
 void stamp_all_cameras(CapturedFrame& frame, std::vector<CameraStatus>& status) {
   const std::uint64_t t = wall_clock_ns();

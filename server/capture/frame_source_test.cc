@@ -8,6 +8,7 @@
 #include <algorithm>
 
 #include "omnisweep/dataset/dataset.h"
+#include "omnisweep/options/split.h"
 #include "server/synthetic/synthetic_dataset.h"
 #include "tests/support/test_support.h"
 
@@ -85,6 +86,15 @@ TEST(FrameSource, SyntheticSourceRendersItsPoses) {
   ASSERT_TRUE(frame);
   EXPECT_EQ(int(frame->images.size()), source->rig().num_cameras());
   EXPECT_EQ(frame->images[0].width(), source->rig().cameras[0].width);
+}
+
+// The one splitter of lists in flags and source specs.
+TEST(Split, KeepsOrDropsEmptyItems) {
+  EXPECT_EQ(split("a,,b", ','), (std::vector<std::string>{"a", "", "b"}));
+  EXPECT_EQ(split("a,,b", ',', EmptyItems::kDrop), (std::vector<std::string>{"a", "b"}));
+  EXPECT_EQ(split("", ','), (std::vector<std::string>{""}));
+  EXPECT_TRUE(split("", ',', EmptyItems::kDrop).empty());
+  EXPECT_EQ(split("x|y", '|'), (std::vector<std::string>{"x", "y"}));
 }
 
 }  // namespace

@@ -3,10 +3,10 @@
 #pragma once
 
 #include <CLI/CLI.hpp>
-#include <sstream>
 #include <string>
 #include <vector>
 
+#include "omnisweep/options/split.h"
 #include "server/depth/depth_options.h"
 
 namespace omnisweep::tools {
@@ -87,13 +87,9 @@ inline void add_depth_flags(CLI::App& app, depth::DepthOptions& options, std::st
       "Vulkan device: index or name substring (default: OMNISWEEP_VK_DEVICE, else the best)");
 }
 
+// "a,b,c" -> {"a", "b", "c"}; empty items are left out.
 inline std::vector<std::string> split_list(const std::string& list) {
-  std::vector<std::string> out;
-  std::stringstream s(list);
-  for (std::string item; std::getline(s, item, ',');) {
-    if (!item.empty()) out.push_back(item);
-  }
-  return out;
+  return split(list, ',', EmptyItems::kDrop);
 }
 
 }  // namespace omnisweep::tools
