@@ -141,17 +141,19 @@ stitch::Panorama estimate_panorama(gpu::Context& context, const Rig& rig,
   return stitcher.stitch({&result.distance[0], &result.distance[1]}, {&images[2], &images[3]});
 }
 
+stitch::Panorama synthetic_panorama(gpu::Context& context) {
+  const synthetic::SyntheticRig rig;
+  synthetic::SyntheticFrame frame = rig.render(0, 64, 32);
+  std::vector<Rgb8Image> images;
+  std::vector<std::optional<Gray8Image>> masks;
+  for (auto& c : frame.cameras) images.push_back(std::move(c.rgb));
+  for (auto& m : rig.masks()) masks.emplace_back(std::move(m));
+  return estimate_panorama(context, rig.rig(), images, masks);
+}
+
 void codec_section(gpu::Context& context, const std::string& kaist_dir, bool json) {
   std::vector<std::pair<std::string, stitch::Panorama>> panoramas;
-  {
-    const synthetic::SyntheticRig rig;
-    synthetic::SyntheticFrame frame = rig.render(0, 64, 32);
-    std::vector<Rgb8Image> images;
-    std::vector<std::optional<Gray8Image>> masks;
-    for (auto& c : frame.cameras) images.push_back(std::move(c.rgb));
-    for (auto& m : rig.masks()) masks.emplace_back(std::move(m));
-    panoramas.emplace_back("synthetic", estimate_panorama(context, rig.rig(), images, masks));
-  }
+  panoramas.emplace_back("synthetic", synthetic_panorama(context));
   if (!kaist_dir.empty() &&
       std::filesystem::exists(std::filesystem::path(kaist_dir) / "calibration.json")) {
     const Dataset kaist = Dataset::open(kaist_dir);

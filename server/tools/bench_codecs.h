@@ -24,5 +24,7 @@ void codec_section(gpu::Context& context, const std::string& kaist_dir, bool jso
 stitch::Panorama estimate_panorama(gpu::Context& context, const Rig& rig,
                                    const std::vector<Rgb8Image>& images,
                                    const std::vector<std::optional<Gray8Image>>& masks_full);
+// The synthetic rig's first frame, estimated so.
+stitch::Panorama synthetic_panorama(gpu::Context& context);
 
 }  // namespace omnisweep::tools

@@ -10,7 +10,6 @@
 #include "omnisweep/dds/stream_publisher.h"
 #include "omnisweep/ros2/ros_messages.h"
 #include "omnisweep/ros2/ros_publisher.h"
-#include "server/synthetic/synthetic_rig.h"
 #include "server/tools/bench_codecs.h"
 #include "server/tools/bench_stats.h"
 
@@ -22,13 +21,7 @@ constexpr int kRuns = 15;
 }  // namespace
 
 void ros2_section(gpu::Context& context, bool json) {
-  const synthetic::SyntheticRig rig;
-  synthetic::SyntheticFrame rendered = rig.render(0, 64, 32);
-  std::vector<Rgb8Image> images;
-  std::vector<std::optional<Gray8Image>> masks;
-  for (auto& c : rendered.cameras) images.push_back(std::move(c.rgb));
-  for (auto& m : rig.masks()) masks.emplace_back(std::move(m));
-  const stitch::Panorama panorama = estimate_panorama(context, rig.rig(), images, masks);
+  const stitch::Panorama panorama = synthetic_panorama(context);
   const codec::DistanceParams params;
   const codec::Bytes jpeg = codec::make_color_codec("jpeg")->encode(panorama.rgb);
   const codec::Bytes distance =
