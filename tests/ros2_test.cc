@@ -262,36 +262,56 @@ class TopicCollector : public fdds::DomainParticipantListener {
   std::set<std::string> topics_;
 };
 
-std::set<std::string> topics_announced(int domain, const std::string& wait_for,
-                                       BackgroundProcess& server) {
+// Every topic announced on the domain once the server has published a frame (its writers, ROS
+// ones included, are all made before its first frame), and until `enough` holds or a second
+// more has passed.
+template <typename Enough>
+std::set<std::string> topics_announced(int domain, const StreamFrames& stream,
+                                       BackgroundProcess& server, const Enough& enough) {
   TopicCollector collector;
   auto* factory = fdds::DomainParticipantFactory::get_instance();
   fdds::DomainParticipant* participant = factory->create_participant(
       domain, fdds::PARTICIPANT_QOS_DEFAULT, &collector, fdds::StatusMask::none());
-  const auto deadline = Clock::now() + std::chrono::seconds(60);
-  while (!collector.topics().count(wait_for) && Clock::now() < deadline && server.running())
+  auto deadline = Clock::now() + std::chrono::seconds(120);
+  while (stream.size() == 0 && Clock::now() < deadline && server.running())
     std::this_thread::sleep_for(std::chrono::milliseconds(50));
-  std::this_thread::sleep_for(std::chrono::seconds(2));  // every writer is announced by now
+  // Writers made before that frame are announced alongside it; a second more for the packets.
+  deadline = std::min(deadline, Clock::now() + std::chrono::seconds(1));
+  while (!enough(collector.topics()) && Clock::now() < deadline)
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
   factory->delete_participant(participant);
   return collector.topics();
 }
 
+std::set<std::string> rt_topics(const std::set<std::string>& topics) {
+  std::set<std::string> rt;
+  for (const std::string& t : topics)
+    if (t.rfind("rt/", 0) == 0) rt.insert(t);
+  return rt;
+}
+
 TEST_F(Ros2Test, NoRos2LeavesNoRtTopicAndTheDefaultHasThemAll) {
+  const std::string ns = "rt" + ros_namespace();
+  const std::set<std::string> all = {ns + "/color/image_raw/compressed",
+                                     ns + "/distance/image_raw/compressedDepth",
+                                     ns + "/distance/image_raw",
+                                     ns + "/points",
+                                     "rt/tf_static",
+                                     "rt/diagnostics"};
   for (const bool ros : {false, true}) {
+    StreamFrames stream(participant_options());
     BackgroundProcess server(server_command(ros ? "" : " --no-ros2"), dir_.path() / "server.log");
-    const std::set<std::string> topics = topics_announced(domain_, topic_prefix_ + "/rgbd", server);
+    const std::set<std::string> topics =
+        topics_announced(domain_, stream, server, [&](const std::set<std::string>& seen) {
+          return ros && rt_topics(seen) == all;  // without ROS: the whole second
+        });
+    ASSERT_GT(stream.size(), 0u) << server.log();
     ASSERT_TRUE(topics.count(topic_prefix_ + "/rgbd")) << server.log();
-    std::set<std::string> rt;
-    for (const std::string& t : topics)
-      if (t.rfind("rt/", 0) == 0) rt.insert(t);
+    const std::set<std::string> rt = rt_topics(topics);
     if (!ros) {
       EXPECT_TRUE(rt.empty()) << *rt.begin();
     } else {
-      const std::string ns = "rt" + ros_namespace();
-      EXPECT_EQ(rt,
-                (std::set<std::string>{
-                    ns + "/color/image_raw/compressed", ns + "/distance/image_raw/compressedDepth",
-                    ns + "/distance/image_raw", ns + "/points", "rt/tf_static", "rt/diagnostics"}));
+      EXPECT_EQ(rt, all);
     }
     double seconds = 0;
     EXPECT_EQ(server.stop(SIGTERM, 5, &seconds), 0) << server.log();
@@ -416,28 +436,25 @@ TEST_F(Ros2Test, RecordingHoldsTheRosTopicsFoxgloveReadsAndPlayReplays) {
   std::cout << "Foxglove's readers decoded " << json["messages"].size()
             << " ROS messages under the recorded, Humble and Jazzy definitions\n";
 
-  // omnisweep-play replays the recorded ROS topics on DDS.
+  // omnisweep-play replays the recorded ROS topics on DDS. It loops, so every recorded frame
+  // arrives however long the reader takes to match (playback at 4x is over in 0.4 s).
   RosReaders ros(participant_options(), ns);
-  BackgroundProcess play(tool_command("play", " " + file.string() + " --rate 4"),
+  BackgroundProcess play(tool_command("play", " " + file.string() + " --rate 4 --loop"),
                          dir_.path() / "play.log");
   std::set<std::uint64_t> replayed;
-  const auto deadline = Clock::now() + std::chrono::seconds(30);
-  bool playing = true;
-  while (replayed.size() < 8 && Clock::now() < deadline) {
+  const auto deadline = Clock::now() + std::chrono::seconds(60);
+  while (replayed.size() < frames.size() && Clock::now() < deadline) {
     if (auto m = ros.take<sensor_msgs::msg::CompressedImage>(TopicKind::kRosColor)) {
       const std::uint64_t stamp = ros2::stamp_ns(m->header().stamp());
       ASSERT_TRUE(frames.count(stamp));
       EXPECT_EQ(m->data(), frames[stamp].color().data());
       replayed.insert(stamp);
-    } else if (!playing) {
-      break;  // play has ended and every sample it sent is taken
     } else {
-      playing = play.running();
+      ASSERT_TRUE(play.running()) << play.log();
       std::this_thread::sleep_for(std::chrono::milliseconds(10));
     }
   }
-  // The first frames may go out before the reader is matched.
-  EXPECT_GE(replayed.size(), 5u) << play.log();
+  EXPECT_EQ(replayed.size(), frames.size()) << play.log();
   double seconds = 0;
   play.stop(SIGTERM, 5, &seconds);
 }
@@ -458,7 +475,7 @@ TEST_F(Ros2Test, FoxgloveClientsSeeTheStreamLive) {
       dir_.path() / "server.log");
   std::smatch match;
   const std::regex address("ws://127\\.0\\.0\\.1:([0-9]+)");
-  const auto deadline = Clock::now() + std::chrono::seconds(60);
+  const auto deadline = Clock::now() + std::chrono::seconds(120);
   std::string log;
   while (!std::regex_search(log = server.log(), match, address) && Clock::now() < deadline &&
          server.running())
