@@ -29,6 +29,8 @@ install(FILES ${PROJECT_BINARY_DIR}/idl/generated/omnisweep_msgs.h
               ${PROJECT_BINARY_DIR}/idl/generated/ros2_msgs.h
               ${PROJECT_BINARY_DIR}/idl/generated/ros2_msgsPubSubTypes.h
         DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/omnisweep/generated)
+install(FILES ${PROJECT_BINARY_DIR}/shaders/generated/include/omnisweep/gpu/shader_ids.h
+        DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/omnisweep/gpu)
 install(FILES ${PROJECT_SOURCE_DIR}/deploy/qos/omnisweep_qos.xml DESTINATION ${CMAKE_INSTALL_DATADIR}/omnisweep/qos)
 
 set(cmake_dir ${CMAKE_INSTALL_LIBDIR}/cmake/omnisweep)

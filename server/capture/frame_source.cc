@@ -24,24 +24,56 @@ void SourceOptions::check() const {
                        "a positive number of seconds");
 }
 
-std::unique_ptr<FrameSource> open_source(const std::string& spec, const SourceOptions& options) {
-  options.check();
-  if (spec == "synthetic") return open_synthetic_source(options);
+std::string_view to_string(SourceKind kind) {
+  switch (kind) {
+    case SourceKind::kSynthetic:
+      return "synthetic";
+    case SourceKind::kDataset:
+      return "dataset";
+    case SourceKind::kVideo:
+      return "video";
+    case SourceKind::kV4l2:
+      return "v4l2";
+    case SourceKind::kGst:
+      return "gst";
+  }
+  return "unknown";
+}
+
+SourceSpec parse_source_spec(const std::string& spec) {
+  if (spec == to_string(SourceKind::kSynthetic)) return {};
   const std::size_t colon = spec.find(':');
-  const std::string kind = spec.substr(0, colon);
+  const std::string prefix = spec.substr(0, colon);
   const std::string rest = colon == std::string::npos ? "" : spec.substr(colon + 1);
-  if (kind == "dataset" && !rest.empty()) return open_dataset_source(rest);
-  if ((kind == "video" || kind == "v4l2" || kind == "gst") && !rest.empty()) {
-    std::vector<std::string> entries = split(rest, kind == "gst" ? '|' : ',');
-    for (std::size_t i = 0; i < entries.size(); ++i) {
-      if (entries[i].empty())
-        throw SourceError("source \"" + spec + "\": camera " + std::to_string(i) + " is empty");
+  if (!rest.empty()) {
+    if (prefix == to_string(SourceKind::kDataset))
+      return {.kind = SourceKind::kDataset, .location = rest};
+    for (const SourceKind kind : {SourceKind::kVideo, SourceKind::kV4l2, SourceKind::kGst}) {
+      if (prefix != to_string(kind)) continue;
+      SourceSpec parsed{.kind = kind, .cameras = split(rest, kind == SourceKind::kGst ? '|' : ',')};
+      for (std::size_t i = 0; i < parsed.cameras.size(); ++i) {
+        if (parsed.cameras[i].empty())
+          throw SourceError("source \"" + spec + "\": camera " + std::to_string(i) + " is empty");
+      }
+      return parsed;
     }
-    return open_video_source(kind, entries, options);
   }
   throw SourceError("unknown source \"" + spec +
                     "\" (expected synthetic, dataset:DIR, video:F0,F1,..., "
                     "v4l2:/dev/videoN,... or gst:PIPELINE|PIPELINE|...)");
+}
+
+std::unique_ptr<FrameSource> open_source(const std::string& spec, const SourceOptions& options) {
+  options.check();
+  const SourceSpec parsed = parse_source_spec(spec);
+  switch (parsed.kind) {
+    case SourceKind::kSynthetic:
+      return open_synthetic_source(options);
+    case SourceKind::kDataset:
+      return open_dataset_source(parsed.location);
+    default:
+      return open_video_source(parsed.kind, parsed.cameras, options);
+  }
 }
 
 }  // namespace omnisweep::capture

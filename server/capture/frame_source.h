@@ -12,6 +12,7 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "omnisweep/image/image.h"
@@ -67,6 +68,19 @@ struct SourceOptions {
   // Throws std::invalid_argument naming the field, its value and what is allowed.
   void check() const;
 };
+
+// The kinds of source a spec names: "synthetic", "dataset:DIR", "video:F0,F1,...",
+// "v4l2:/dev/videoN,..." or "gst:PIPELINE|PIPELINE|...".
+enum class SourceKind { kSynthetic, kDataset, kVideo, kV4l2, kGst };
+std::string_view to_string(SourceKind kind);  // the spec's prefix: "synthetic", "dataset", ...
+
+struct SourceSpec {
+  SourceKind kind = SourceKind::kSynthetic;
+  std::string location;              // the dataset directory (dataset)
+  std::vector<std::string> cameras;  // one entry per camera (video, v4l2, gst)
+};
+// Throws SourceError naming the spec and what is wrong (unknown kind, an empty camera entry).
+SourceSpec parse_source_spec(const std::string& spec);
 
 // Opens the source named by `spec`; throws SourceError naming what failed (unknown kind,
 // unreadable calibration, a camera that does not open, camera count != calibration).

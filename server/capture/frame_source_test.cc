@@ -43,6 +43,28 @@ TEST(FrameSource, BadSpecsAreNamed) {
       << error_of("video:/nonexistent.mp4");
 }
 
+TEST(FrameSource, SpecsParseToTheirKind) {
+  EXPECT_EQ(parse_source_spec("synthetic").kind, SourceKind::kSynthetic);
+  const SourceSpec dataset = parse_source_spec("dataset:/data/hall");
+  EXPECT_EQ(dataset.kind, SourceKind::kDataset);
+  EXPECT_EQ(dataset.location, "/data/hall");
+  const SourceSpec video = parse_source_spec("video:a.mp4,b.mp4");
+  EXPECT_EQ(video.kind, SourceKind::kVideo);
+  EXPECT_EQ(video.cameras, (std::vector<std::string>{"a.mp4", "b.mp4"}));
+  EXPECT_EQ(parse_source_spec("v4l2:/dev/video0").kind, SourceKind::kV4l2);
+  // GStreamer pipelines hold commas, so they are split at '|'.
+  const SourceSpec gst = parse_source_spec("gst:videotestsrc ! video/x-raw,width=64 ! appsink|x");
+  EXPECT_EQ(gst.kind, SourceKind::kGst);
+  EXPECT_EQ(gst.cameras.size(), 2u);
+  // Every kind's name is the prefix that parses back to it.
+  for (const SourceKind kind :
+       {SourceKind::kDataset, SourceKind::kVideo, SourceKind::kV4l2, SourceKind::kGst})
+    EXPECT_EQ(parse_source_spec(std::string(to_string(kind)) + ":x").kind, kind);
+  EXPECT_EQ(to_string(SourceKind::kV4l2), "v4l2");
+  EXPECT_THROW(parse_source_spec("dataset:"), SourceError);
+  EXPECT_THROW(parse_source_spec("synthetic:x"), SourceError);
+}
+
 TEST(FrameSource, DatasetSourceLoopsItsFramesAtTheCalibrationsSize) {
   const omnisweep::testing::ScratchDir dir;
   synthetic::SyntheticRigOptions rig_options;

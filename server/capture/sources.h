@@ -7,8 +7,8 @@ namespace omnisweep::capture {
 
 std::unique_ptr<FrameSource> open_synthetic_source(const SourceOptions& options);
 std::unique_ptr<FrameSource> open_dataset_source(const std::string& dir);
-// kind: "video", "v4l2" or "gst"; one OpenCV VideoCapture per entry.
-std::unique_ptr<FrameSource> open_video_source(const std::string& kind,
+// kind: kVideo, kV4l2 or kGst; one OpenCV VideoCapture per entry.
+std::unique_ptr<FrameSource> open_video_source(SourceKind kind,
                                                const std::vector<std::string>& entries,
                                                const SourceOptions& options);
 

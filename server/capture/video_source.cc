@@ -1,9 +1,8 @@
 // Cameras through OpenCV's VideoCapture: video files (looped), V4L2 devices and GStreamer
 // pipelines (how a Jetson reads its CSI cameras: nvarguscamerasrc ... ! appsink).
+#include <cstdio>
 #include <opencv2/imgproc.hpp>
 #include <opencv2/videoio.hpp>
-
-#include <cstdio>
 
 #include "omnisweep/rig/basalt_calibration.h"
 #include "server/capture/sources.h"
@@ -13,26 +12,31 @@ namespace {
 
 class VideoSource final : public FrameSource {
  public:
-  VideoSource(const std::string& kind, const std::vector<std::string>& entries,
+  VideoSource(SourceKind kind, const std::vector<std::string>& entries,
               const SourceOptions& options)
-      : kind_(kind), entries_(entries), timeout_ns_(std::uint64_t(options.camera_timeout_s * 1e9)) {
+      : kind_(kind),
+        name_(to_string(kind)),
+        entries_(entries),
+        timeout_ns_(std::uint64_t(options.camera_timeout_s * 1e9)) {
     if (options.calibration.empty())
-      throw SourceError("source " + kind + ": needs --calibration (basalt JSON)");
+      throw SourceError("source " + name_ + ": needs --calibration (basalt JSON)");
     try {
       rig_ = read_basalt_calibration(options.calibration);
     } catch (const std::exception& e) {
       throw SourceError(e.what());
     }
     if (int(entries.size()) != rig_.num_cameras()) {
-      throw SourceError("source " + kind + " names " + std::to_string(entries.size()) +
+      throw SourceError("source " + name_ + " names " + std::to_string(entries.size()) +
                         " cameras, the calibration " + options.calibration + " has " +
                         std::to_string(rig_.num_cameras()));
     }
-    const int api = kind == "v4l2" ? cv::CAP_V4L2 : kind == "gst" ? cv::CAP_GSTREAMER : cv::CAP_ANY;
+    const int api = kind == SourceKind::kV4l2  ? cv::CAP_V4L2
+                    : kind == SourceKind::kGst ? cv::CAP_GSTREAMER
+                                               : cv::CAP_ANY;
     for (std::size_t i = 0; i < entries.size(); ++i) {
       captures_.emplace_back(entries[i], api);
       if (!captures_.back().isOpened()) {
-        throw SourceError("camera " + std::to_string(i) + " (" + kind + " " + entries[i] +
+        throw SourceError("camera " + std::to_string(i) + " (" + name_ + " " + entries[i] +
                           ") does not open");
       }
     }
@@ -48,16 +52,16 @@ class VideoSource final : public FrameSource {
     return none;
   }
   std::string description() const override {
-    return kind_ + " source with " + std::to_string(entries_.size()) + " cameras";
+    return name_ + " source with " + std::to_string(entries_.size()) + " cameras";
   }
-  bool live() const override { return kind_ != "video"; }
+  bool live() const override { return kind_ != SourceKind::kVideo; }
 
   std::optional<CapturedFrame> next() override {
     // Grab every camera first, then decode, so the images are as close in time as possible.
     std::vector<bool> grabbed(captures_.size());
     for (std::size_t i = 0; i < captures_.size(); ++i) {
       grabbed[i] = captures_[i].grab();
-      if (!grabbed[i] && kind_ == "video") {  // end of file: loop
+      if (!grabbed[i] && kind_ == SourceKind::kVideo) {  // end of file: loop
         captures_[i].set(cv::CAP_PROP_POS_FRAMES, 0);
         grabbed[i] = captures_[i].grab();
       }
@@ -81,14 +85,13 @@ class VideoSource final : public FrameSource {
         cv::cvtColor(bgr, view, cv::COLOR_BGR2RGB);
         last_[i] = std::move(rgb);
         last_time_[i] = t;
-        if (!s.delivering)
-          std::fprintf(stderr, "omnisweep-server: camera %zu delivers again\n", i);
+        if (!s.delivering) std::fprintf(stderr, "omnisweep-server: camera %zu delivers again\n", i);
         s.delivering = true;
         s.message.clear();
         ++s.frames;
         s.last_frame_ns = t;
       } else if (s.delivering && (last_time_[i] == 0 || t - last_time_[i] > timeout_ns_ ||
-                                  kind_ == "video")) {
+                                  kind_ == SourceKind::kVideo)) {
         s.delivering = false;
         s.message = "no image from " + entries_[i];
         std::fprintf(stderr, "omnisweep-server: camera %zu (%s) stopped delivering\n", i,
@@ -98,12 +101,12 @@ class VideoSource final : public FrameSource {
     }
     for (std::size_t i = 0; i < captures_.size(); ++i) {
       if (last_[i].empty()) {
-        if (delivering == 0) throw SourceError("no camera of the " + kind_ + " source delivers");
+        if (delivering == 0) throw SourceError("no camera of the " + name_ + " source delivers");
         throw SourceError("camera " + std::to_string(i) + " (" + entries_[i] +
                           ") has not delivered a first image");
       }
     }
-    if (delivering == 0) throw SourceError("no camera of the " + kind_ + " source delivers");
+    if (delivering == 0) throw SourceError("no camera of the " + name_ + " source delivers");
     CapturedFrame out;
     for (const Rgb8Image& image : last_) out.images.push_back(image.clone());
     out.capture_time_ns = last_time_;
@@ -113,7 +116,8 @@ class VideoSource final : public FrameSource {
   std::vector<CameraStatus> camera_status() const override { return status_; }
 
  private:
-  std::string kind_;
+  SourceKind kind_;
+  std::string name_;  // to_string(kind_), for messages
   std::vector<std::string> entries_;
   std::uint64_t timeout_ns_;
   Rig rig_;
@@ -125,7 +129,7 @@ class VideoSource final : public FrameSource {
 
 }  // namespace
 
-std::unique_ptr<FrameSource> open_video_source(const std::string& kind,
+std::unique_ptr<FrameSource> open_video_source(SourceKind kind,
                                                const std::vector<std::string>& entries,
                                                const SourceOptions& options) {
   return std::make_unique<VideoSource>(kind, entries, options);

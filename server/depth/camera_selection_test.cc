@@ -142,7 +142,7 @@ TEST_F(DepthKernelTest, YCbCrGuideEqualsCpu) {
   gpu::Buffer images(context(), packed.size() * 4), guide(context(), packed.size() * 4);
   images.upload(std::span<const std::uint32_t>(packed));
   const gpu::Kernel kernel(
-      context(), "ycbcr_guide",
+      context(), gpu::Shader::kYcbcrGuide,
       {.bindings = {gpu::BindingSlot::texels(), 1}, .push_constant_bytes = 4 * (2 + 8)});
   gpu::Sequence seq(context());
   seq.begin();

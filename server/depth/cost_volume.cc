@@ -15,8 +15,8 @@ gpu::KernelLayout volume_kernel_layout(std::vector<gpu::BindingSlot> bindings,
                         gpu::SpecConstant::of(1, std::uint32_t(layout.chunks))}};
 }
 
-std::string volume_shader(const std::string& shader, VolumeLayout layout, bool stores) {
-  return shader + (layout.half && stores ? "_f16" : "") + (layout.pack == 4 ? "_x4" : "");
+gpu::ShaderBuild volume_shader(gpu::Shader shader, VolumeLayout layout, bool stores) {
+  return {shader, layout.half && stores, layout.pack == 4};
 }
 
 VolumeLayout plan_volume(const gpu::Context& context, int width, int height, int channels,

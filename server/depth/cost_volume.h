@@ -36,7 +36,7 @@ struct VolumeLayout {
 // The kernel of `shader` that stores (or, `stores` false, only reads) volumes with `layout`:
 // `shader`, or its build for 16-bit values (_f16; a kernel that only reads has none, its texel
 // views convert) and for channels packed by four (_x4) (shaders/CMakeLists.txt).
-std::string volume_shader(const std::string& shader, VolumeLayout layout, bool stores = true);
+gpu::ShaderBuild volume_shader(gpu::Shader shader, VolumeLayout layout, bool stores = true);
 
 // The layout of a kernel that binds chunk arrays: `bindings` as in gpu::KernelLayout, 8x8x1
 // workgroups, and the volume's channels per chunk and chunk count as specialization constants

@@ -60,9 +60,9 @@ IsbFilter::IsbFilter(gpu::Context& context, int width, int height, VolumeLayout 
     : context_(&context),
       layout_(layout),
       dummy_(context, 16),
-      down_(context, volume_shader("isb_downsample", layout), down_layout(layout)),
-      up_(context, volume_shader("isb_upsample", layout), up_layout(layout, false)),
-      up_wta_(context, volume_shader("isb_upsample", layout), up_layout(layout, true)) {
+      down_(context, volume_shader(gpu::Shader::kIsbDownsample, layout), down_layout(layout)),
+      up_(context, volume_shader(gpu::Shader::kIsbUpsample, layout), up_layout(layout, false)),
+      up_wta_(context, volume_shader(gpu::Shader::kIsbUpsample, layout), up_layout(layout, true)) {
   if (!context.info().buffer_array_indexing) {
     throw gpu::GpuError(context.info().name +
                         " lacks shaderStorageBufferArrayDynamicIndexing, which the filter needs");

@@ -18,7 +18,7 @@ FrameBudget::FrameBudget(int quality, std::size_t max_bytes, int floor_quality)
 
 codec::ColorCodec& FrameBudget::codec_at(int quality) {
   auto& codec = codecs_[quality];
-  if (!codec) codec = codec::make_color_codec("jpeg", {.quality = quality});
+  if (!codec) codec = codec::make_color_codec(codec::kJpeg, {.quality = quality});
   return *codec;
 }
 

@@ -25,7 +25,7 @@ Rgb8Image textured(int w, int h) {
 }
 
 std::size_t jpeg_size(const Rgb8Image& im, int quality) {
-  return codec::make_color_codec("jpeg", {.quality = quality})->encode(im).size();
+  return codec::make_color_codec(codec::kJpeg, {.quality = quality})->encode(im).size();
 }
 
 TEST(FrameBudget, LowersTheColourQualityUntilTheFrameFits) {

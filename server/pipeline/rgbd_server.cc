@@ -86,8 +86,8 @@ struct RgbdServer::Stages {
                                        .max_distance = o.depth.max_distance,
                                        .temporal = o.temporal}),
         gpu_frame(context, estimator, stitcher),
-        distance_codec(codec::make_distance_codec("qinv16-zstd")),
-        confidence_codec(codec::make_confidence_codec("conf8-zstd")),
+        distance_codec(codec::make_distance_codec(codec::kQinv16Zstd)),
+        confidence_codec(codec::make_confidence_codec(codec::kConf8Zstd)),
         budget(o.jpeg_quality, o.max_frame_bytes) {
     if (o.depth.correct_photometry)
       photometry.emplace(matching_rig, masks, colour_rig, o.depth.references,
@@ -200,7 +200,7 @@ void RgbdServer::fail(const std::string& stage, const std::string& what) {
   {
     const std::lock_guard lock(stats_mutex_);
     if (error_.empty()) error_ = stage + ": " + what;
-    state_ = "failed";
+    state_ = wire::ServerState::kFailed;
   }
   finished_ = true;
   request_stop();
@@ -237,7 +237,7 @@ void RgbdServer::capture_loop() {
     } catch (const capture::SourceError& e) {
       {
         const std::lock_guard lock(stats_mutex_);
-        state_ = "source stalled";
+        state_ = wire::ServerState::kSourceStalled;
         cameras_ = source_->camera_status();
       }
       std::fprintf(stderr, "omnisweep-server: source stalled: %s\n", e.what());
@@ -255,7 +255,7 @@ void RgbdServer::capture_loop() {
       }
       {
         const std::lock_guard lock(stats_mutex_);
-        state_ = "source ended";
+        state_ = wire::ServerState::kSourceEnded;
       }
       std::this_thread::sleep_for(std::chrono::milliseconds(100));
       continue;
@@ -265,7 +265,8 @@ void RgbdServer::capture_loop() {
       const std::lock_guard lock(stats_mutex_);
       cameras_ = source_->camera_status();
       ++captured_window_;
-      if (state_ == "source stalled") state_ = published_ > 0 ? "running" : "starting";
+      if (state_ == wire::ServerState::kSourceStalled)
+        state_ = published_ > 0 ? wire::ServerState::kRunning : wire::ServerState::kStarting;
     }
     auto job = std::make_shared<Job>();
     job->sequence = sequence++;
@@ -372,7 +373,8 @@ void RgbdServer::publish_loop() {
     {
       const std::lock_guard lock(stats_mutex_);
       ++published_window_;
-      if (state_ == "starting") state_ = "running";  // the first frame is out
+      if (state_ == wire::ServerState::kStarting)
+        state_ = wire::ServerState::kRunning;  // the first frame is out
     }
     if (ros_wanted() && stages_->to_ros.push(std::move(*item))) count_drop("ros busy");
     if (++published_ == options_.max_frames && options_.max_frames > 0) {
@@ -414,7 +416,7 @@ msg::ServerStatus RgbdServer::make_status() {
   s.time_ns(wall_clock_ns());
   s.matched_subscribers(publisher_->frame_subscribers());
   const std::lock_guard lock(stats_mutex_);
-  s.state(stop_ ? "stopping" : state_);
+  s.state(std::string(wire::to_string(stop_ ? wire::ServerState::kStopping : state_)));
   s.fps_in(float(captured_window_));
   s.fps_out(float(published_window_));
   captured_window_ = published_window_ = 0;

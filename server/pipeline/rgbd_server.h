@@ -20,6 +20,7 @@
 #include "omnisweep/foxglove/foxglove_server.h"
 #include "omnisweep/gpu/context.h"
 #include "omnisweep/ros2/ros_publisher.h"
+#include "omnisweep/wire/wire.h"
 #include "server/capture/frame_source.h"
 #include "server/depth/depth_options.h"
 #include "server/pipeline/frame_budget.h"
@@ -121,7 +122,7 @@ class RgbdServer {
   // The source's camera status, copied by the capture thread (the only one calling the source).
   std::vector<capture::CameraStatus> cameras_;
   std::uint64_t captured_window_ = 0, published_window_ = 0;
-  std::string state_ = "starting";
+  wire::ServerState state_ = wire::ServerState::kStarting;
   std::string error_;
 };
 

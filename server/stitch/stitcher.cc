@@ -81,7 +81,7 @@ Stitcher::Stitcher(gpu::Context& context, const Rig& matching_rig, const Rig& co
       out_colour_(context, std::uint64_t(options.panorama_width) * options.panorama_height * 4),
       out_distance_(context, std::uint64_t(options.panorama_width) * options.panorama_height * 4),
       out_confidence_(context, out_distance_.size()),
-      merge_(context, "stitch_merge",
+      merge_(context, gpu::Shader::kStitchMerge,
              {.bindings = {reproject::camera_binding(), gpu::BindingSlot::texels(),
                            gpu::BindingSlot::texels(), gpu::BindingSlot::texels(),
                            gpu::BindingSlot::texels(), 1, 1, gpu::BindingSlot::texels(), 1},
@@ -141,14 +141,14 @@ void Stitcher::compute_weights(const std::vector<std::optional<Gray8Image>>& usa
   gpu::Buffer mask_buffer(context, masks.size() * 4), mask_tmp(context, masks.size() * 4),
       weight_tmp(context, weights_.size());
   mask_buffer.upload(std::span<const float>(masks));
-  const gpu::Kernel box(context, "box_filter",
+  const gpu::Kernel box(context, gpu::Shader::kBoxFilter,
                         {.bindings = {1, 1}, .push_constant_bytes = sizeof(BoxPush)});
   const gpu::Kernel raw(
-      context, "blend_weights",
+      context, gpu::Shader::kBlendWeights,
       {.bindings = {reproject::camera_binding(), 1, 1},
        .push_constant_bytes = sizeof(WeightsPush),
        .constants = reproject::model_constants(reproject::common_model(matching_rig_))});
-  const gpu::Kernel normalise(context, "normalize_weights",
+  const gpu::Kernel normalise(context, gpu::Shader::kNormalizeWeights,
                               {.bindings = {1}, .push_constant_bytes = sizeof(MergePush)});
   gpu::Sequence seq(context, 16, 1);
   seq.begin();

@@ -95,9 +95,9 @@ TemporalFilter::TemporalFilter(gpu::Context& context, int width, int height,
       count_(context, std::uint64_t(pixels_) * 4),
       previous_colour_(context, std::uint64_t(pixels_) * 4),
       changed_(context, 16),
-      changes_(context, "temporal_changes",
+      changes_(context, gpu::Shader::kTemporalChanges,
                {.bindings = {1, 1, 1}, .push_constant_bytes = sizeof(ChangesPush)}),
-      filter_(context, "temporal_filter",
+      filter_(context, gpu::Shader::kTemporalFilter,
               {.bindings = {1, 1, 1, 1, 1, 1}, .push_constant_bytes = sizeof(FilterPush)}) {}
 
 void TemporalFilter::record(gpu::Sequence& seq, gpu::Buffer& distance, const gpu::Buffer& colour) {

@@ -209,8 +209,8 @@ Scene Scene::hall(std::uint64_t seed, const std::vector<Eigen::Vector3f>& keep_c
       // Half the objects within 4 m of the start, the rest anywhere in the hall.
       const bool near = rng.index(2) == 0;
       // On the floor (y = 0), z drawn first.
-      const Eigen::Vector2f lo = near ? Eigen::Vector2f(-4, -4)
-                                      : Eigen::Vector2f(s.room_.min.x(), s.room_.min.z());
+      const Eigen::Vector2f lo =
+          near ? Eigen::Vector2f(-4, -4) : Eigen::Vector2f(s.room_.min.x(), s.room_.min.z());
       const Eigen::Vector2f hi =
           near ? Eigen::Vector2f(4, 4) : Eigen::Vector2f(s.room_.max.x(), s.room_.max.z());
       const float z = rng.uniform(lo.y(), hi.y());

@@ -162,7 +162,7 @@ void codec_section(gpu::Context& context, const std::string& kaist_dir, bool jso
         "kaist-rig",
         estimate_panorama(context, kaist.rig(), depth::rgb8_images(frame), kaist.masks()));
   }
-  const auto distance_codec = codec::make_distance_codec("qinv16-zstd");
+  const auto distance_codec = codec::make_distance_codec(codec::kQinv16Zstd);
   const codec::DistanceParams full, light = codec::kLightDistance;
   const Table table(json);
   for (const auto& entry : panoramas) {
@@ -202,7 +202,7 @@ void codec_section(gpu::Context& context, const std::string& kaist_dir, bool jso
               bytes.size(), median(light_enc), median(light_dec), inverse_error(distance, back));
 
     for (int quality : {codec::ColorOptions{}.quality, codec::kLightJpegQuality}) {
-      const auto jpeg = codec::make_color_codec("jpeg", {.quality = quality});
+      const auto jpeg = codec::make_color_codec(codec::kJpeg, {.quality = quality});
       std::vector<Cost> jpeg_enc, jpeg_dec;
       for (int i = 0; i < kRuns; ++i) {
         jpeg_enc.push_back(cost_of([&] { bytes = jpeg->encode(entry.second.rgb); }));

@@ -24,9 +24,9 @@ void record_section(bool json) {
   std::vector<std::uint8_t> colour(255 * 1024), distance(597 * 1024);
   for (auto& b : colour) b = std::uint8_t(random());
   for (auto& b : distance) b = std::uint8_t(random());
-  frame.color().codec("jpeg");
+  frame.color().codec(std::string(codec::kJpeg));
   frame.color().data(colour);
-  frame.distance().codec("qinv16-zstd");
+  frame.distance().codec(std::string(codec::kQinv16Zstd));
   frame.distance().data(distance);
 
   const std::filesystem::path file = std::filesystem::temp_directory_path() /

@@ -23,9 +23,9 @@ constexpr int kRuns = 15;
 void ros2_section(gpu::Context& context, bool json) {
   const stitch::Panorama panorama = synthetic_panorama(context);
   const codec::DistanceParams params;
-  const codec::Bytes jpeg = codec::make_color_codec("jpeg")->encode(panorama.rgb);
+  const codec::Bytes jpeg = codec::make_color_codec(codec::kJpeg)->encode(panorama.rgb);
   const codec::Bytes distance =
-      codec::make_distance_codec("qinv16-zstd")->encode(panorama.distance, params);
+      codec::make_distance_codec(codec::kQinv16Zstd)->encode(panorama.distance, params);
   ros2::FrameInputs frame;
   frame.stamp_ns = 1;
   frame.width = panorama.rgb.width();

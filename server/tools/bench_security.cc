@@ -33,9 +33,11 @@ msg::RgbdFrame encoded_frame() {
   msg::RgbdFrame frame;
   frame.width(2048);
   frame.height(1024);
-  frame.color(wire::make_payload("jpeg", codec::make_color_codec("jpeg")->encode(pano.rgb)));
-  frame.distance(wire::make_payload(
-      "qinv16-zstd", codec::make_distance_codec("qinv16-zstd")->encode(distance, params)));
+  frame.color(
+      wire::make_payload(codec::kJpeg, codec::make_color_codec(codec::kJpeg)->encode(pano.rgb)));
+  frame.distance(
+      wire::make_payload(codec::kQinv16Zstd,
+                         codec::make_distance_codec(codec::kQinv16Zstd)->encode(distance, params)));
   frame.distance_params(wire::to_message(params));
   return frame;
 }

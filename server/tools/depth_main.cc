@@ -7,13 +7,13 @@
 #include <string>
 #include <vector>
 
+#include "client_sdk/tools/tool_main.h"
 #include "omnisweep/dataset/dataset.h"
 #include "omnisweep/gpu/context.h"
 #include "omnisweep/image/image_io.h"
 #include "server/depth/depth_estimator.h"
 #include "server/depth/depth_inputs.h"
 #include "server/tools/depth_flags.h"
-#include "client_sdk/tools/tool_main.h"
 
 namespace {
 

@@ -32,18 +32,18 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         codec::DistanceParams params;
         params.levels = 2 + (data[5] | (data[6] << 8)) % 65534;
         params.downsample = std::uint32_t(1) << (data[7] % 3);
-        const auto codec = codec::make_distance_codec("qinv16-zstd");
+        const auto codec = codec::make_distance_codec(codec::kQinv16Zstd);
         codec->decode(std::span(data + 8, size - 8), dimension(data + 1), dimension(data + 3),
                       params);
         break;
       }
       case 1: {
-        const auto codec = codec::make_color_codec("jpeg");
+        const auto codec = codec::make_color_codec(codec::kJpeg);
         codec->decode(std::span(data + 5, size - 5), dimension(data + 1), dimension(data + 3));
         break;
       }
       case 3: {
-        const auto codec = codec::make_confidence_codec("conf8-zstd");
+        const auto codec = codec::make_confidence_codec(codec::kConf8Zstd);
         codec->decode(std::span(data + 5, size - 5), dimension(data + 1), dimension(data + 3));
         break;
       }

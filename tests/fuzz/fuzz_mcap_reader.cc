@@ -24,10 +24,17 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     reader.read([&](const record::McapMessage& m) {
       try {
         switch (record::recorded_topic(reader, *m.channel).value_or(dds::TopicKind(-1))) {
-          case dds::TopicKind::kDescription: record::decode_message(m.data, description); break;
-          case dds::TopicKind::kFrames: record::decode_message(m.data, frame); break;
-          case dds::TopicKind::kStatus: record::decode_message(m.data, status); break;
-          default: break;
+          case dds::TopicKind::kDescription:
+            record::decode_message(m.data, description);
+            break;
+          case dds::TopicKind::kFrames:
+            record::decode_message(m.data, frame);
+            break;
+          case dds::TopicKind::kStatus:
+            record::decode_message(m.data, status);
+            break;
+          default:
+            break;
         }
       } catch (const std::exception&) {
       }

@@ -63,11 +63,11 @@ msg::RgbdFrame frame_message(int w, int h, int frame) {
   m.width(std::uint32_t(w));
   m.height(std::uint32_t(h));
   m.capture_time_ns({1, 2, 3, 4});
-  m.color(wire::make_payload("jpeg",
-                             codec::make_color_codec("jpeg")->encode(colour_image(w, h, frame))));
+  m.color(wire::make_payload(
+      codec::kJpeg, codec::make_color_codec(codec::kJpeg)->encode(colour_image(w, h, frame))));
   m.distance(wire::make_payload(
-      "qinv16-zstd",
-      codec::make_distance_codec("qinv16-zstd")->encode(distance_map(w, h, frame), params)));
+      codec::kQinv16Zstd,
+      codec::make_distance_codec(codec::kQinv16Zstd)->encode(distance_map(w, h, frame), params)));
   m.distance_params(wire::to_message(params));
   return m;
 }
@@ -88,13 +88,13 @@ int main(int argc, char** argv) {
     distance.push_back(std::uint8_t((params.levels - 2) >> 8));
     distance.push_back(0);
     const codec::Bytes payload =
-        codec::make_distance_codec("qinv16-zstd")->encode(distance_map(64, 32, 0), params);
+        codec::make_distance_codec(codec::kQinv16Zstd)->encode(distance_map(64, 32, 0), params);
     distance.insert(distance.end(), payload.begin(), payload.end());
     write_file(root / "frame_decoder/distance", distance);
 
     std::vector<std::uint8_t> jpeg = header(1, 48, 32);
     const codec::Bytes jpeg_payload =
-        codec::make_color_codec("jpeg")->encode(colour_image(48, 32, 0));
+        codec::make_color_codec(codec::kJpeg)->encode(colour_image(48, 32, 0));
     jpeg.insert(jpeg.end(), jpeg_payload.begin(), jpeg_payload.end());
     write_file(root / "frame_decoder/jpeg", jpeg);
 
@@ -104,7 +104,7 @@ int main(int argc, char** argv) {
       for (int x = 0; x < 64; ++x)
         levels.data()[y * 64 + x] = std::uint8_t(x > 20 && x < 30 && y > 8 && y < 20 ? 3 : 4 * x);
     const codec::Bytes confidence_payload =
-        codec::make_confidence_codec("conf8-zstd")->encode(levels);
+        codec::make_confidence_codec(codec::kConf8Zstd)->encode(levels);
     std::vector<std::uint8_t> confidence = header(3, 64, 32);
     confidence.insert(confidence.end(), confidence_payload.begin(), confidence_payload.end());
     write_file(root / "frame_decoder/confidence", confidence);
@@ -125,7 +125,7 @@ int main(int argc, char** argv) {
         c.sequence_number(std::uint64_t(i));
         c.width(64);
         c.height(32);
-        c.confidence(wire::make_payload("conf8-zstd", confidence_payload));
+        c.confidence(wire::make_payload(codec::kConf8Zstd, confidence_payload));
         recorder.record(c, 1'100'000'000 + i * 100'000'000);
         recorder.record(frame_message(32, 16, i), 1'100'000'000 + i * 100'000'000);
       }

@@ -14,12 +14,12 @@
 
 #include "ros2_msgs.h"
 
-static int write_file(const char *dir, const char *kind, const struct std_msgs_msg_Header *header,
-                      const char *ext, const void *data, size_t size) {
+static int write_file(const char* dir, const char* kind, const struct std_msgs_msg_Header* header,
+                      const char* ext, const void* data, size_t size) {
   char path[4096];
   snprintf(path, sizeof path, "%s/%s_%d_%u.%s", dir, kind, (int)header->stamp.sec,
            (unsigned)header->stamp.nanosec, ext);
-  FILE *f = fopen(path, "wb");
+  FILE* f = fopen(path, "wb");
   if (!f) {
     fprintf(stderr, "cyclone_subscriber: cannot write %s\n", path);
     return -1;
@@ -31,24 +31,25 @@ static int write_file(const char *dir, const char *kind, const struct std_msgs_m
 
 /* Cyclone names a type after its IDL modules; ROS 2 over Fast DDS names it
  * <pkg>::msg::dds_::<Type>_, and DDS matches readers to writers by that name. */
-static dds_entity_t ros_topic(dds_entity_t participant, dds_topic_descriptor_t *descriptor,
-                              const dds_topic_descriptor_t *generated, const char *ros_type_name,
-                              const char *name) {
+static dds_entity_t ros_topic(dds_entity_t participant, dds_topic_descriptor_t* descriptor,
+                              const dds_topic_descriptor_t* generated, const char* ros_type_name,
+                              const char* name) {
   memcpy(descriptor, generated, sizeof *descriptor); /* its members are const: copy the bytes */
   descriptor->m_typename = ros_type_name;
   const dds_entity_t topic = dds_create_topic(participant, descriptor, name, NULL, NULL);
-  if (topic < 0) fprintf(stderr, "cyclone_subscriber: topic %s: %s\n", name, dds_strretcode(-topic));
+  if (topic < 0)
+    fprintf(stderr, "cyclone_subscriber: topic %s: %s\n", name, dds_strretcode(-topic));
   return topic;
 }
 
-int main(int argc, char **argv) {
+int main(int argc, char** argv) {
   if (argc != 6) {
     fprintf(stderr, "usage: %s DOMAIN NAMESPACE OUT_DIR FRAMES TIMEOUT_S\n", argv[0]);
     return 2;
   }
   const dds_domainid_t domain = (dds_domainid_t)atoi(argv[1]);
-  const char *ns = strcmp(argv[2], "/") == 0 ? "" : argv[2];
-  const char *out_dir = argv[3];
+  const char* ns = strcmp(argv[2], "/") == 0 ? "" : argv[2];
+  const char* out_dir = argv[3];
   const int frames = atoi(argv[4]);
   const dds_time_t deadline = dds_time() + DDS_SECS(atoi(argv[5]));
 
@@ -69,7 +70,7 @@ int main(int argc, char **argv) {
                 "sensor_msgs::msg::dds_::Image_", distance_name);
   if (color_topic < 0 || distance_topic < 0) return 1;
 
-  dds_qos_t *qos = dds_create_qos();
+  dds_qos_t* qos = dds_create_qos();
   dds_qset_reliability(qos, DDS_RELIABILITY_RELIABLE, DDS_SECS(1));
   dds_qset_history(qos, DDS_HISTORY_KEEP_LAST, 8);
   const dds_entity_t color_reader = dds_create_reader(participant, color_topic, qos, NULL);
@@ -82,11 +83,11 @@ int main(int argc, char **argv) {
 
   int colors = 0, distances = 0, failed = 0;
   while ((colors < frames || distances < frames) && dds_time() < deadline && !failed) {
-    void *samples[1] = {NULL};
+    void* samples[1] = {NULL};
     dds_sample_info_t info[1];
     int n = dds_take(color_reader, samples, info, 1, 1);
     if (n > 0 && info[0].valid_data) {
-      const sensor_msgs_msg_CompressedImage *m = samples[0];
+      const sensor_msgs_msg_CompressedImage* m = samples[0];
       printf("color %d.%09u format \"%s\" %u bytes\n", (int)m->header.stamp.sec,
              (unsigned)m->header.stamp.nanosec, m->format, (unsigned)m->data._length);
       failed |= write_file(out_dir, "color", &m->header, "jpg", m->data._buffer, m->data._length);
@@ -96,11 +97,12 @@ int main(int argc, char **argv) {
     samples[0] = NULL;
     n = dds_take(distance_reader, samples, info, 1, 1);
     if (n > 0 && info[0].valid_data) {
-      const sensor_msgs_msg_Image *m = samples[0];
+      const sensor_msgs_msg_Image* m = samples[0];
       printf("distance %d.%09u %ux%u \"%s\" step %u, %u bytes\n", (int)m->header.stamp.sec,
              (unsigned)m->header.stamp.nanosec, (unsigned)m->width, (unsigned)m->height,
              m->encoding, (unsigned)m->step, (unsigned)m->data._length);
-      failed |= write_file(out_dir, "distance", &m->header, "f32", m->data._buffer, m->data._length);
+      failed |=
+          write_file(out_dir, "distance", &m->header, "f32", m->data._buffer, m->data._length);
       ++distances;
     }
     if (n > 0) dds_return_loan(distance_reader, samples, n);

@@ -66,7 +66,7 @@ RgbdSubscriber::RgbdSubscriber(const SubscriberOptions& options, FrameCallback o
     for (const auto& stage : m.stage_ms()) slowest_ms = std::max(slowest_ms, double(stage.ms()));
     const std::lock_guard lock(mutex_);
     last_status_time_ = std::chrono::steady_clock::now();
-    server_running_ = m.state() == "running";
+    server_running_ = wire::parse_server_state(m.state()) == wire::ServerState::kRunning;
     server_frame_s_ = slowest_ms * 1e-3;
   };
   std::vector<dds::TopicKind> topics = {dds::TopicKind::kDescription, dds::TopicKind::kStatus,

@@ -47,23 +47,30 @@ void verify_checksum(std::span<const std::uint8_t> payload, std::uint32_t expect
   }
 }
 
-std::vector<std::string> color_codec_names() { return {"jpeg"}; }
-std::vector<std::string> distance_codec_names() { return {"qinv16-zstd"}; }
-std::vector<std::string> confidence_codec_names() { return {"conf8-zstd"}; }
+std::vector<std::string> color_codec_names() { return {std::string(kJpeg)}; }
+std::vector<std::string> distance_codec_names() { return {std::string(kQinv16Zstd)}; }
+std::vector<std::string> confidence_codec_names() { return {std::string(kConf8Zstd)}; }
 
-std::unique_ptr<ColorCodec> make_color_codec(const std::string& name, const ColorOptions& options) {
-  if (name == "jpeg") return make_jpeg_codec(options.quality);
-  throw CodecError("unknown colour codec '" + name + "' (known: jpeg)");
+namespace {
+[[noreturn]] void unknown_codec(const char* what, std::string_view name, std::string_view known) {
+  throw CodecError("unknown " + std::string(what) + " codec '" + std::string(name) +
+                   "' (known: " + std::string(known) + ")");
+}
+}  // namespace
+
+std::unique_ptr<ColorCodec> make_color_codec(std::string_view name, const ColorOptions& options) {
+  if (name == kJpeg) return make_jpeg_codec(options.quality);
+  unknown_codec("colour", name, kJpeg);
 }
 
-std::unique_ptr<DistanceCodec> make_distance_codec(const std::string& name) {
-  if (name == "qinv16-zstd") return make_qinv16_zstd_codec();
-  throw CodecError("unknown distance codec '" + name + "' (known: qinv16-zstd)");
+std::unique_ptr<DistanceCodec> make_distance_codec(std::string_view name) {
+  if (name == kQinv16Zstd) return make_qinv16_zstd_codec();
+  unknown_codec("distance", name, kQinv16Zstd);
 }
 
-std::unique_ptr<ConfidenceCodec> make_confidence_codec(const std::string& name) {
-  if (name == "conf8-zstd") return make_conf8_zstd_codec();
-  throw CodecError("unknown confidence codec '" + name + "' (known: conf8-zstd)");
+std::unique_ptr<ConfidenceCodec> make_confidence_codec(std::string_view name) {
+  if (name == kConf8Zstd) return make_conf8_zstd_codec();
+  unknown_codec("confidence", name, kConf8Zstd);
 }
 
 }  // namespace omnisweep::codec

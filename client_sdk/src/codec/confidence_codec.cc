@@ -67,7 +67,7 @@ Gray8Image upsample(const Bytes& samples, int sw, int sh, int w, int h, int down
 
 class Conf8Zstd final : public ConfidenceCodec {
  public:
-  std::string name() const override { return "conf8-zstd"; }
+  std::string name() const override { return std::string(kConf8Zstd); }
 
   Bytes encode(const Gray8Image& levels, int downsample) const override {
     if (levels.channels() != 1 || levels.empty())

@@ -6,11 +6,14 @@
 namespace omnisweep::codec {
 namespace {
 
+// "<codec name>: ", the start of every error this codec throws.
+std::string error_prefix() { return std::string(kJpeg) + ": "; }
+
 // TurboJPEG handles are plain pointers; this gives each one an owner.
 struct TjHandle {
   tjhandle handle;
   explicit TjHandle(tjhandle h) : handle(h) {
-    if (!handle) throw CodecError("jpeg: cannot create a TurboJPEG handle");
+    if (!handle) throw CodecError(error_prefix() + "cannot create a TurboJPEG handle");
   }
   ~TjHandle() { tjDestroy(handle); }
   TjHandle(const TjHandle&) = delete;
@@ -21,13 +24,13 @@ class JpegCodec final : public ColorCodec {
  public:
   explicit JpegCodec(int quality) : quality_(quality) {
     if (quality < 1 || quality > 100)
-      throw CodecError("jpeg: quality " + std::to_string(quality) + " is outside 1-100");
+      throw CodecError(error_prefix() + "quality " + std::to_string(quality) + " is outside 1-100");
   }
-  std::string name() const override { return "jpeg"; }
+  std::string name() const override { return std::string(kJpeg); }
 
   Bytes encode(const Rgb8Image& image) const override {
     if (image.channels() != 3 || image.empty())
-      throw CodecError("jpeg: expects a non-empty RGB image");
+      throw CodecError(error_prefix() + "expects a non-empty RGB image");
     const TjHandle tj(tjInitCompress());
     unsigned char* out = nullptr;
     unsigned long size = 0;
@@ -35,7 +38,7 @@ class JpegCodec final : public ColorCodec {
                     &size, TJSAMP_420, quality_, 0) != 0) {
       const std::string why = tjGetErrorStr2(tj.handle);
       tjFree(out);
-      throw CodecError("jpeg: cannot encode: " + why);
+      throw CodecError(error_prefix() + "cannot encode: " + why);
     }
     Bytes bytes(out, out + size);
     tjFree(out);
@@ -44,22 +47,23 @@ class JpegCodec final : public ColorCodec {
 
   Rgb8Image decode(std::span<const std::uint8_t> payload, int width, int height) const override {
     if (payload.size() < 4 || payload[0] != 0xff || payload[1] != 0xd8)
-      throw CodecError("jpeg: not a JPEG payload");
+      throw CodecError(error_prefix() + "not a JPEG payload");
     const TjHandle tj(tjInitDecompress());
     int w = 0, h = 0, subsampling = 0, colorspace = 0;
     if (tjDecompressHeader3(tj.handle, payload.data(), payload.size(), &w, &h, &subsampling,
                             &colorspace) != 0) {
-      throw CodecError(std::string("jpeg: bad header: ") + tjGetErrorStr2(tj.handle));
+      throw CodecError(error_prefix() + "bad header: " + tjGetErrorStr2(tj.handle));
     }
     if (w != width || h != height) {
-      throw CodecError("jpeg: payload is " + std::to_string(w) + "x" + std::to_string(h) +
-                       ", the frame says " + std::to_string(width) + "x" + std::to_string(height));
+      throw CodecError(error_prefix() + "payload is " + std::to_string(w) + "x" +
+                       std::to_string(h) + ", the frame says " + std::to_string(width) + "x" +
+                       std::to_string(height));
     }
     Rgb8Image image(width, height, 3);
     // Warnings (a truncated scan, corrupt data) are errors: frames are whole or rejected.
     if (tjDecompress2(tj.handle, payload.data(), payload.size(), image.data(), width, 0, height,
                       TJPF_RGB, TJFLAG_STOPONWARNING | TJFLAG_LIMITSCANS) != 0) {
-      throw CodecError(std::string("jpeg: cannot decode: ") + tjGetErrorStr2(tj.handle));
+      throw CodecError(error_prefix() + "cannot decode: " + tjGetErrorStr2(tj.handle));
     }
     return image;
   }

@@ -277,7 +277,7 @@ std::vector<std::string> Context::take_validation_messages() {
 }
 
 MemoryChoice Context::choose_memory(std::uint32_t type_bits, MemoryUse use,
-                                   vk::DeviceSize bytes) const {
+                                    vk::DeviceSize bytes) const {
   using Flag = vk::MemoryPropertyFlagBits;
   const auto& types = memory_properties_.memoryTypes;
   const auto& heaps = memory_properties_.memoryHeaps;

@@ -30,6 +30,20 @@ KernelLayout fill_layout(std::uint32_t stride, std::uint32_t local_size) {
           .constants = {SpecConstant::of(0, stride)}};
 }
 
+TEST(Shaders, EveryKernelIsEmbeddedUnderItsFileName) {
+  for (int i = 0; i < kShaderCount; ++i) {
+    const auto code = embedded_shader(Shader(i));
+    ASSERT_GT(code.size(), 5u) << kShaderNames[i];
+    EXPECT_EQ(code[0], 0x07230203u) << kShaderNames[i];  // the SPIR-V magic number
+    EXPECT_EQ(shader_name(Shader(i)), kShaderNames[i]);
+  }
+  EXPECT_EQ(shader_name({Shader::kSphereSweepCost, true, true}), "sphere_sweep_cost_f16_x4");
+  EXPECT_NE(embedded_shader({Shader::kSphereSweepCost, true, true}).data(),
+            embedded_shader({Shader::kSphereSweepCost, false, true}).data());
+  EXPECT_FALSE(embedded_shader({Shader::kWinnerTakeAll, false, true}).empty());
+  EXPECT_THROW(embedded_shader({Shader::kWinnerTakeAll, true, false}), std::invalid_argument);
+}
+
 TEST(GpuDevices, ListsDevicesAndSelectsByIndexOrName) {
   const auto devices = list_devices();
   ASSERT_FALSE(devices.empty());
@@ -135,7 +149,7 @@ TEST_P(GpuMemoryPaths, TransfersAndKernelsWorkOnEveryFallback) {
   EXPECT_EQ(part[0], 25.0f);
 
   // A kernel overwrites part of it; the download sees the device's writes.
-  const Kernel fill(context, "fill", fill_layout(1, 64));
+  const Kernel fill(context, Shader::kFill, fill_layout(1, 64));
   Sequence seq(context);
   seq.begin();
   seq.dispatch(fill, {buffer}, FillPush{100, 3.0f}, fill.groups_for(100, 1));
@@ -175,8 +189,8 @@ TEST_F(ValidatedGpuTest, KernelWithPushAndSpecializationConstants) {
   Buffer buffer(context(), 100 * sizeof(float));
   std::vector<float> zeros(100, -1.0f);
   buffer.upload(std::span<const float>(zeros));
-  const Kernel every(context(), "fill", fill_layout(1, 64));
-  const Kernel every_third(context(), "fill", fill_layout(3, 32));
+  const Kernel every(context(), Shader::kFill, fill_layout(1, 64));
+  const Kernel every_third(context(), Shader::kFill, fill_layout(3, 32));
   Sequence seq(context());
   seq.begin();
   seq.begin_stage("fill");
@@ -206,9 +220,9 @@ TEST_F(ValidatedGpuTest, CommandLogCountsTheRecordedStream) {
   Image image(context(), 13, 7, ImageFormat::kRgba8);
   std::vector<float> values(1000, 1.0f);
   a.upload(std::span<const float>(values));  // a transfer (a round trip where it is staged)
-  const Kernel fill(context(), "fill", fill_layout(1, 64));
+  const Kernel fill(context(), Shader::kFill, fill_layout(1, 64));
   const Kernel copy(
-      context(), "copy_image_to_buffer",
+      context(), Shader::kCopyImageToBuffer,
       {.bindings = {1}, .storage_images = 1, .push_constant_bytes = 12, .constants = {}});
   Sequence seq(context());
   seq.begin();
@@ -263,7 +277,7 @@ TEST_F(ValidatedGpuTest, StorageImagesRoundTripAndBindInKernels) {
 
   // A kernel reads it (imageLoad) and writes a buffer, halving every channel.
   Buffer packed(context(), texels.size() * 4);
-  const Kernel copy(context(), "copy_image_to_buffer",
+  const Kernel copy(context(), Shader::kCopyImageToBuffer,
                     {.bindings = {1}, .storage_images = 1, .push_constant_bytes = 12});
   Sequence seq(context());
   seq.begin();
@@ -288,7 +302,7 @@ TEST_F(ValidatedGpuTest, StorageImagesRoundTripAndBindInKernels) {
 
 TEST_F(ValidatedGpuTest, MisuseIsAnErrorNotACrash) {
   Buffer buffer(context(), 64);
-  const Kernel fill(context(), "fill", fill_layout(1, 64));
+  const Kernel fill(context(), Shader::kFill, fill_layout(1, 64));
   Sequence seq(context());
   EXPECT_THROW(seq.dispatch(fill, {buffer}, FillPush{1, 1.0f}, {1, 1, 1}),
                GpuError);  // before begin()
@@ -301,7 +315,9 @@ TEST_F(ValidatedGpuTest, MisuseIsAnErrorNotACrash) {
     Buffer big(context(), too_big);
     EXPECT_THROW(seq.dispatch(fill, {big}, FillPush{1, 1.0f}, {1, 1, 1}), GpuError);
   }
-  EXPECT_THROW(Kernel(context(), "no_such_shader", fill_layout(1, 64)), std::invalid_argument);
+  // fill has no 16-bit build (only the cost-volume kernels do).
+  EXPECT_THROW(Kernel(context(), {Shader::kFill, /*half_values=*/true}, fill_layout(1, 64)),
+               std::invalid_argument);
   seq.submit_and_wait();
 }
 

@@ -16,9 +16,10 @@ vk::DescriptorType descriptor_type(BindingKind kind) {
   return vk::DescriptorType::eStorageBuffer;
 }
 
-Kernel::Kernel(const Context& context, const std::string& shader, KernelLayout layout)
-    : name_(shader), layout_(std::move(layout)) {
-  const auto code = embedded_shader(shader);
+Kernel::Kernel(const Context& context, ShaderBuild build, KernelLayout layout)
+    : name_(shader_name(build)), layout_(std::move(layout)) {
+  const auto code = embedded_shader(build);
+  const std::string& shader = name_;
   const auto& props_limits = context.info();
   const std::uint64_t invocations =
       std::uint64_t(layout_.local_size[0]) * layout_.local_size[1] * layout_.local_size[2];
@@ -29,15 +30,14 @@ Kernel::Kernel(const Context& context, const std::string& shader, KernelLayout l
   }
   std::uint32_t storage = 0, texels = 0, uniforms = 0;
   for (const BindingSlot& slot : layout_.bindings) {
-    (slot.kind == BindingKind::kStorageBuffer  ? storage
+    (slot.kind == BindingKind::kStorageBuffer ? storage
      : slot.kind == BindingKind::kTexelBuffer ? texels
-                                               : uniforms) += slot.count;
+                                              : uniforms) += slot.count;
   }
   const auto check = [&](std::uint32_t count, std::uint32_t limit, const char* what) {
     if (count > limit) {
       throw GpuError("kernel " + shader + ": binds " + std::to_string(count) + " " + what +
-                     ", over the limit of " + std::to_string(limit) + " on " +
-                     props_limits.name);
+                     ", over the limit of " + std::to_string(limit) + " on " + props_limits.name);
     }
   };
   check(storage, props_limits.max_storage_buffers_per_stage, "storage buffers");
@@ -47,8 +47,8 @@ Kernel::Kernel(const Context& context, const std::string& shader, KernelLayout l
   try {
     std::vector<vk::DescriptorSetLayoutBinding> bindings;
     for (std::uint32_t i = 0; i < layout_.bindings.size(); ++i) {
-      bindings.emplace_back(i, descriptor_type(layout_.bindings[i].kind),
-                            layout_.bindings[i].count, vk::ShaderStageFlagBits::eCompute);
+      bindings.emplace_back(i, descriptor_type(layout_.bindings[i].kind), layout_.bindings[i].count,
+                            vk::ShaderStageFlagBits::eCompute);
     }
     for (std::uint32_t i = 0; i < layout_.storage_images; ++i) {
       bindings.emplace_back(std::uint32_t(layout_.bindings.size()) + i,

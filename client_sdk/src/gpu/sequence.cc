@@ -96,19 +96,20 @@ void Sequence::dispatch(const Kernel& kernel, const std::vector<Binding>& bindin
   for (std::size_t b = 0; b < buffer_bindings; ++b) {
     const BindingSlot& slot = layout.bindings[b];
     const bool texels = slot.kind == BindingKind::kTexelBuffer;
-    const char* what = texels                                      ? " texel buffers"
+    const char* what = texels                                     ? " texel buffers"
                        : slot.kind == BindingKind::kUniformBuffer ? " uniform buffers"
-                                                                   : " storage buffers";
+                                                                  : " storage buffers";
     if (bindings[b].image || bindings[b].texel_format.has_value() != texels ||
         bindings[b].buffers.size() != slot.count) {
       throw GpuError("kernel " + kernel.name() + ": binding " + std::to_string(b) + " takes " +
                      std::to_string(slot.count) + what + ", got " +
                      std::to_string(bindings[b].buffers.size()) +
-                     (bindings[b].image ? " (a storage image)"
+                     (bindings[b].image          ? " (a storage image)"
                       : bindings[b].texel_format ? " texel buffers"
                                                  : " buffers"));
     }
-    const std::uint64_t range = slot.kind == BindingKind::kStorageBuffer ? limits.max_storage_buffer_range
+    const std::uint64_t range = slot.kind == BindingKind::kStorageBuffer
+                                    ? limits.max_storage_buffer_range
                                 : slot.kind == BindingKind::kUniformBuffer
                                     ? limits.max_uniform_buffer_range
                                     : ~std::uint64_t(0);  // texel_view checks its own limit
@@ -175,8 +176,8 @@ void Sequence::dispatch(const Kernel& kernel, const std::vector<Binding>& bindin
     log->add_dispatch({.kernel = kernel.name(),
                        .stage = current_stage(),
                        .groups = groups,
-                       .invocations = std::uint64_t(groups[0]) * groups[1] * groups[2] *
-                                      local[0] * local[1] * local[2],
+                       .invocations = std::uint64_t(groups[0]) * groups[1] * groups[2] * local[0] *
+                                      local[1] * local[2],
                        .bound_bytes = bound_bytes});
   }
 }

@@ -35,10 +35,9 @@ StagingPool::Lease StagingPool::lease(Slot& slot, MemoryUse use, std::size_t byt
     slot.size = 0;
     try {
       slot.buffer = vk::raii::Buffer(
-          context_->device(),
-          vk::BufferCreateInfo({}, size,
-                               vk::BufferUsageFlagBits::eTransferSrc |
-                                   vk::BufferUsageFlagBits::eTransferDst));
+          context_->device(), vk::BufferCreateInfo({}, size,
+                                                   vk::BufferUsageFlagBits::eTransferSrc |
+                                                       vk::BufferUsageFlagBits::eTransferDst));
       const auto req = slot.buffer.getMemoryRequirements();
       const MemoryChoice choice = context_->choose_memory(req.memoryTypeBits, use, size);
       slot.memory =
@@ -54,8 +53,7 @@ StagingPool::Lease StagingPool::lease(Slot& slot, MemoryUse use, std::size_t byt
                      context_->info().name + ": " + e.what());
     }
   }
-  return Lease(std::move(lock), *context_, *slot.buffer, *slot.memory, slot.mapped,
-               slot.coherent);
+  return Lease(std::move(lock), *context_, *slot.buffer, *slot.memory, slot.mapped, slot.coherent);
 }
 
 }  // namespace omnisweep::gpu

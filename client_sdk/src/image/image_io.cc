@@ -196,7 +196,8 @@ void write_exr(const std::filesystem::path& path, const FloatImage& image) {
 
 Image<std::uint8_t> resize_area(const Image<std::uint8_t>& image, int width, int height) {
   if (width <= 0 || height <= 0) throw ImageIoError("resize_area: target size must be positive");
-  const cv::Mat src(image.height(), image.width(), CV_8UC(image.channels()), const_cast<std::uint8_t*>(image.data()));
+  const cv::Mat src(image.height(), image.width(), CV_8UC(image.channels()),
+                    const_cast<std::uint8_t*>(image.data()));
   Image<std::uint8_t> out(width, height, image.channels());
   cv::Mat dst(height, width, CV_8UC(image.channels()), out.data());
   cv::resize(src, dst, dst.size(), 0, 0, cv::INTER_AREA);

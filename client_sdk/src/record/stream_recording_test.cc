@@ -20,8 +20,8 @@ msg::ConfidenceFrame confidence_message(std::uint64_t sequence) {
   c.description_revision(5);
   c.width(16);
   c.height(8);
-  c.confidence(wire::make_payload("conf8-zstd",
-                                  codec::make_confidence_codec("conf8-zstd")->encode(levels, 1)));
+  c.confidence(wire::make_payload(
+      codec::kConf8Zstd, codec::make_confidence_codec(codec::kConf8Zstd)->encode(levels, 1)));
   return c;
 }
 

@@ -50,7 +50,7 @@ GpuModel layers_model(const std::vector<WarpLayer>& layers, bool target) {
 }
 
 // A kernel that projects, compiled for the layers' source and target camera models.
-gpu::Kernel camera_kernel(const gpu::Context& context, const char* shader,
+gpu::Kernel camera_kernel(const gpu::Context& context, gpu::Shader shader,
                           std::vector<gpu::BindingSlot> bindings, std::uint32_t push_bytes,
                           const std::vector<WarpLayer>& layers) {
   return gpu::Kernel(
@@ -60,15 +60,15 @@ gpu::Kernel camera_kernel(const gpu::Context& context, const char* shader,
        .constants = model_constants(layers_model(layers, false), layers_model(layers, true))});
 }
 gpu::Kernel warp_kernel(const gpu::Context& context, const std::vector<WarpLayer>& layers) {
-  return camera_kernel(context, "forward_warp", {camera_binding(), gpu::BindingSlot::texels(), 1},
-                       4, layers);
+  return camera_kernel(context, gpu::Shader::kForwardWarp,
+                       {camera_binding(), gpu::BindingSlot::texels(), 1}, 4, layers);
 }
 gpu::Kernel directions_kernel(const gpu::Context& context, const std::vector<WarpLayer>& layers) {
-  return camera_kernel(context, "inpaint_directions", {camera_binding(), 1}, 8, layers);
+  return camera_kernel(context, gpu::Shader::kInpaintDirections, {camera_binding(), 1}, 8, layers);
 }
 gpu::Kernel sample_colour_kernel(const gpu::Context& context,
                                  const std::vector<WarpLayer>& layers) {
-  return camera_kernel(context, "sample_view_colour",
+  return camera_kernel(context, gpu::Shader::kSampleViewColor,
                        {camera_binding(), gpu::BindingSlot::texels(), gpu::BindingSlot::texels(),
                         gpu::BindingSlot::texels(), 1},
                        4, layers);
@@ -131,7 +131,7 @@ ForwardWarper::ForwardWarper(gpu::Context& context, std::vector<WarpLayer> layer
                                 ((target().height + tile_ - 1) / tile_) * layers_.size() * 2 * 4),
       warp_(warp_kernel(context, layers_)),
       directions_kernel_(directions_kernel(context, layers_)),
-      inpaint_(context, "directional_inpaint", inpaint_layout(tile_)) {
+      inpaint_(context, gpu::Shader::kDirectionalInpaint, inpaint_layout(tile_)) {
   if (!(options.min_distance > 0) || !(options.max_distance > options.min_distance) ||
       options.inpaint_passes < 0 || options.inpaint_passes > kMaxPasses ||
       !(options.max_splat >= 1.0) ||
@@ -144,7 +144,7 @@ ForwardWarper::ForwardWarper(gpu::Context& context, std::vector<WarpLayer> layer
     colour_buffers_.emplace_back(context, pixels(target()) * 4);
     colour_buffers_.emplace_back(context, pixels(target()) * 4);
     sample_colour_.emplace(sample_colour_kernel(context, layers_));
-    inpaint_colour_.emplace(context, "directional_inpaint_colour", inpaint_layout(tile_));
+    inpaint_colour_.emplace(context, gpu::Shader::kDirectionalInpaintColor, inpaint_layout(tile_));
   }
   upload_cameras();
 }

@@ -74,9 +74,9 @@ std::vector<GpuCamera> pack_cameras(const Rig& rig, int reference) {
 
 void check_camera_records(std::size_t records) {
   if (records > kMaxCameraRecords) {
-    throw std::invalid_argument(std::to_string(records) + " camera records for one kernel, at most " +
-                                std::to_string(kMaxCameraRecords) +
-                                " are supported (cameras x references)");
+    throw std::invalid_argument(
+        std::to_string(records) + " camera records for one kernel, at most " +
+        std::to_string(kMaxCameraRecords) + " are supported (cameras x references)");
   }
 }
 

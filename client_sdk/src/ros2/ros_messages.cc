@@ -232,9 +232,13 @@ diagnostic_msgs::msg::DiagnosticArray diagnostics(std::uint64_t stamp_ns, const 
   std::uint64_t drops = 0;
   for (const auto& d : status.dropped()) drops += d.count();
   const std::string& state = status.state();
-  server.level(state == "failed"                                                  ? kError
-               : state == "running" || state == "starting" || state == "stopping" ? kOk
-                                                                                  : kWarn);
+  const auto known = wire::parse_server_state(state);
+  using wire::ServerState;
+  server.level(known == ServerState::kFailed ? kError
+               : known == ServerState::kRunning || known == ServerState::kStarting ||
+                       known == ServerState::kStopping
+                   ? kOk
+                   : kWarn);
   server.message(state);
   auto& values = server.values();
   values.push_back(key_value("state", state));
@@ -286,8 +290,8 @@ std::vector<Rigid3d> rig_from_cameras(const msg::StreamDescription& description)
 
 FrameConverter::FrameConverter(const RosOptions& options)
     : options_(options),
-      distance_codec_(codec::make_distance_codec("qinv16-zstd")),
-      color_codec_(codec::make_color_codec("jpeg")) {
+      distance_codec_(codec::make_distance_codec(codec::kQinv16Zstd)),
+      color_codec_(codec::make_color_codec(codec::kJpeg)) {
   options_.check();
 }
 

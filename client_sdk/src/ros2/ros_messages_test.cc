@@ -38,7 +38,7 @@ Rgb8Image test_color(int w, int h) {
 }
 
 TEST(RosMessages, CompressedDepthDecodesToTheStreamsDistances) {
-  const auto codec = codec::make_distance_codec("qinv16-zstd");
+  const auto codec = codec::make_distance_codec(codec::kQinv16Zstd);
   const FloatImage d = test_distance(96, 48);
   for (const codec::DistanceParams params :
        {codec::DistanceParams{}, codec::DistanceParams{.levels = 65535},

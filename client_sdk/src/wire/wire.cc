@@ -1,6 +1,7 @@
 #include "omnisweep/wire/wire.h"
 
 #include <cmath>
+#include <utility>
 
 namespace omnisweep::wire {
 namespace {
@@ -93,9 +94,32 @@ Rig rig_from_description(const msg::StreamDescription& description) {
   return rig;
 }
 
-msg::Payload make_payload(const std::string& codec_name, const codec::Bytes& data) {
+namespace {
+constexpr std::pair<ServerState, std::string_view> kServerStates[] = {
+    {ServerState::kStarting, "starting"},
+    {ServerState::kRunning, "running"},
+    {ServerState::kSourceStalled, "source stalled"},
+    {ServerState::kSourceEnded, "source ended"},
+    {ServerState::kStopping, "stopping"},
+    {ServerState::kFailed, "failed"},
+};
+}  // namespace
+
+std::string_view to_string(ServerState state) {
+  for (const auto& [s, text] : kServerStates)
+    if (s == state) return text;
+  return "unknown";
+}
+
+std::optional<ServerState> parse_server_state(std::string_view text) {
+  for (const auto& [s, t] : kServerStates)
+    if (t == text) return s;
+  return std::nullopt;
+}
+
+msg::Payload make_payload(std::string_view codec_name, const codec::Bytes& data) {
   msg::Payload p;
-  p.codec(codec_name);
+  p.codec(std::string(codec_name));
   p.data(data);
   p.crc32(codec::checksum(data));
   return p;

@@ -38,9 +38,10 @@ msg::RgbdFrame make_frame(int w, int h) {
   frame.width(std::uint32_t(w));
   frame.height(std::uint32_t(h));
   frame.capture_time_ns({1, 2, 3, 4});
-  frame.color(make_payload("jpeg", codec::make_color_codec("jpeg")->encode(rgb)));
-  frame.distance(make_payload("qinv16-zstd",
-                              codec::make_distance_codec("qinv16-zstd")->encode(distance, params)));
+  frame.color(make_payload(codec::kJpeg, codec::make_color_codec(codec::kJpeg)->encode(rgb)));
+  frame.distance(
+      make_payload(codec::kQinv16Zstd,
+                   codec::make_distance_codec(codec::kQinv16Zstd)->encode(distance, params)));
   frame.distance_params(to_message(params));
   return frame;
 }
@@ -100,6 +101,15 @@ TEST(Wire, DescriptionCarriesTheRig) {
   bad = description;
   bad.cameras().resize(1);
   EXPECT_THROW(rig_from_description(bad), WireError);
+}
+
+TEST(Wire, ServerStatesRoundTripTheirWireText) {
+  for (const ServerState state :
+       {ServerState::kStarting, ServerState::kRunning, ServerState::kSourceStalled,
+        ServerState::kSourceEnded, ServerState::kStopping, ServerState::kFailed})
+    EXPECT_EQ(parse_server_state(to_string(state)), state) << to_string(state);
+  EXPECT_EQ(to_string(ServerState::kSourceStalled), "source stalled");
+  EXPECT_EQ(parse_server_state("paused"), std::nullopt);  // a newer server's state
 }
 
 }  // namespace

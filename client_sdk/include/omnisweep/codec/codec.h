@@ -18,6 +18,7 @@
 #include <span>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "omnisweep/image/image.h"
@@ -30,6 +31,11 @@ class CodecError : public std::runtime_error {
 };
 
 using Bytes = std::vector<std::uint8_t>;
+
+// The codec names a frame's payloads carry (wire::make_payload): the one place they are spelled.
+inline constexpr std::string_view kJpeg = "jpeg";               // colour
+inline constexpr std::string_view kQinv16Zstd = "qinv16-zstd";  // distance
+inline constexpr std::string_view kConf8Zstd = "conf8-zstd";    // confidence
 
 class ColorCodec {
  public:
@@ -107,10 +113,10 @@ void verify_checksum(std::span<const std::uint8_t> payload,
                      std::uint32_t expected);  // throws CodecError
 
 // Throws CodecError for unknown names; known names are listed by the functions below.
-std::unique_ptr<ColorCodec> make_color_codec(const std::string& name,
+std::unique_ptr<ColorCodec> make_color_codec(std::string_view name = kJpeg,
                                              const ColorOptions& options = {});
-std::unique_ptr<DistanceCodec> make_distance_codec(const std::string& name);
-std::unique_ptr<ConfidenceCodec> make_confidence_codec(const std::string& name);
+std::unique_ptr<DistanceCodec> make_distance_codec(std::string_view name = kQinv16Zstd);
+std::unique_ptr<ConfidenceCodec> make_confidence_codec(std::string_view name = kConf8Zstd);
 std::vector<std::string> color_codec_names();
 std::vector<std::string> distance_codec_names();
 std::vector<std::string> confidence_codec_names();

@@ -22,10 +22,10 @@ namespace omnisweep::gpu {
 // through the texture cache on GPUs; the values are the buffer's bits, unfiltered. (buffer.cc
 // keeps a table in this order.)
 enum class TexelFormat {
-  kR32Uint,     // usamplerBuffer, one uint per texel
-  kRgba32Uint,  // usamplerBuffer, a uvec4 per texel (16 bytes)
-  kR32Float,    // samplerBuffer, one float per texel
-  kR16Float,    // samplerBuffer, one 16-bit float per texel (read as float)
+  kR32Uint,      // usamplerBuffer, one uint per texel
+  kRgba32Uint,   // usamplerBuffer, a uvec4 per texel (16 bytes)
+  kR32Float,     // samplerBuffer, one float per texel
+  kR16Float,     // samplerBuffer, one 16-bit float per texel (read as float)
   kRgba16Float,  // samplerBuffer, four 16-bit floats per texel (read as vec4)
   kRgba32Float,  // samplerBuffer, a vec4 per texel
 };

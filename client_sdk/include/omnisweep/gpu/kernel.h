@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "omnisweep/gpu/context.h"
+#include "omnisweep/gpu/shaders.h"
 
 namespace omnisweep::gpu {
 
@@ -60,8 +61,9 @@ vk::DescriptorType descriptor_type(BindingKind kind);
 
 class Kernel {
  public:
-  // Throws GpuError naming the shader when it is unknown or the pipeline cannot be built.
-  Kernel(const Context& context, const std::string& shader, KernelLayout layout);
+  // Throws GpuError naming the shader when the pipeline cannot be built, std::invalid_argument
+  // when that build of the kernel is not made.
+  Kernel(const Context& context, ShaderBuild shader, KernelLayout layout);
 
   const std::string& name() const { return name_; }
   const KernelLayout& layout() const { return layout_; }

@@ -36,12 +36,12 @@ struct Texels {
 struct Binding {
   std::vector<const Buffer*> buffers;
   const Image* image = nullptr;
-  std::optional<TexelFormat> texel_format;  // set for texel buffers
+  std::optional<TexelFormat> texel_format;             // set for texel buffers
   Binding(const Buffer* buffer) : buffers{buffer} {}   // NOLINT: implicit for brace lists
   Binding(const Buffer& buffer) : buffers{&buffer} {}  // NOLINT
   Binding(std::vector<const Buffer*> list) : buffers(std::move(list)) {}  // NOLINT
   Binding(const Image& storage_image) : image(&storage_image) {}          // NOLINT
-  Binding(Texels texels)                                                   // NOLINT
+  Binding(Texels texels)                                                  // NOLINT
       : buffers(std::move(texels.buffers)), texel_format(texels.format) {}
 };
 
@@ -67,8 +67,8 @@ class Sequence {
 
   // Makes every earlier shader or transfer write visible to later shaders and transfers.
   void barrier();
-  void copy(const Buffer& source, Buffer& destination, vk::DeviceSize bytes, vk::DeviceSize source_offset = 0,
-            vk::DeviceSize destination_offset = 0);
+  void copy(const Buffer& source, Buffer& destination, vk::DeviceSize bytes,
+            vk::DeviceSize source_offset = 0, vk::DeviceSize destination_offset = 0);
   // Fills `buffer` with a repeated 32-bit pattern (0 clears).
   void fill(Buffer& buffer, std::uint32_t pattern);
 

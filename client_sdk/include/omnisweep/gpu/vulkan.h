@@ -7,7 +7,8 @@
 #pragma once
 
 #if defined(VULKAN_HPP) && !defined(NDEBUG) && !defined(OMNISWEEP_VULKAN_PINNED)
-#error "<vulkan/vulkan.hpp> was included without NDEBUG before omnisweep's headers: include omnisweep first (see omnisweep/gpu/vulkan.h)"
+#error \
+    "<vulkan/vulkan.hpp> was included without NDEBUG before omnisweep's headers: include omnisweep first (see omnisweep/gpu/vulkan.h)"
 #endif
 
 #ifndef NDEBUG

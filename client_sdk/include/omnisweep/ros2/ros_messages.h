@@ -79,7 +79,7 @@ struct FrameInputs {
   int width = 0, height = 0;               // panorama
   std::span<const std::uint8_t> jpeg;      // the colour payload ("jpeg")
   std::span<const std::uint8_t> distance;  // the distance payload
-  std::string distance_codec = "qinv16-zstd";
+  std::string distance_codec{codec::kQinv16Zstd};
   codec::DistanceParams distance_params;
   // The colour the point cloud takes; null: the JPEG is decoded when the points are wanted.
   const Rgb8Image* color = nullptr;

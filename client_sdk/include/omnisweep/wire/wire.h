@@ -3,9 +3,11 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 
 #include "omnisweep/codec/codec.h"
 #include "omnisweep/rig/rig.h"
@@ -18,6 +20,21 @@ class WireError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// The server's state, as its status messages carry it (ServerStatus.state, docs/wire-format.md).
+enum class ServerState {
+  kStarting,       // no frame published yet
+  kRunning,        // publishing
+  kSourceStalled,  // the source's cameras stopped delivering; the server waits for them
+  kSourceEnded,    // a recording source reached its end
+  kStopping,       // shutting down
+  kFailed,         // a stage failed; the status's error says which and why
+};
+// The state's text on the wire: "starting", "running", "source stalled", "source ended",
+// "stopping", "failed".
+std::string_view to_string(ServerState state);
+// The state a status's text names; nullopt for text this SDK does not know (a newer server).
+std::optional<ServerState> parse_server_state(std::string_view text);
+
 msg::CameraCalibration to_message(const RigCamera& camera);
 msg::DistanceCodecParams to_message(const codec::DistanceParams& params);
 codec::DistanceParams from_message(const msg::DistanceCodecParams& params);  // throws WireError
@@ -27,7 +44,7 @@ Rig rig_from_description(const msg::StreamDescription& description);
 void add_rig(const Rig& rig, msg::StreamDescription* description);
 
 // A payload with its codec name and CRC-32.
-msg::Payload make_payload(const std::string& codec_name, const codec::Bytes& data);
+msg::Payload make_payload(std::string_view codec_name, const codec::Bytes& data);
 // The payload's bytes after checking its CRC-32; throws WireError naming `what` on a mismatch.
 std::span<const std::uint8_t> checked_bytes(const msg::Payload& payload, const std::string& what);
 

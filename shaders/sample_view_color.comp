@@ -5,7 +5,7 @@
 // point projects (ALGORITHM.md §5 step 4, with the source as the only reference). A point the
 // source cannot see (its distance map holds something nearer there, by more than
 // `occlusion_tolerance` relative) was disoccluded: it stays empty (alpha 0) for
-// directional_inpaint_colour.comp to fill from the background side.
+// directional_inpaint_color.comp to fill from the background side.
 layout(local_size_x_id = 100, local_size_y_id = 101, local_size_z_id = 102) in;
 
 #include "camera.glsl"
