@@ -25,7 +25,7 @@ using testing::run_command;
 
 struct RecordedFrame {
   std::uint64_t sequence, log_time_ns;
-  std::string colour;  // payload bytes
+  std::string color;  // payload bytes
 };
 
 std::vector<RecordedFrame> recorded_frames(const fs::path& file, record::McapReadSummary* summary,
@@ -95,7 +95,7 @@ TEST_F(RecordTest, ReplayDeliversTheRecordedFramesInOrder) {
   for (std::size_t i = 0; i < 6; ++i) EXPECT_EQ(arrived[i], recorded[i].sequence);
   const auto latest = subscriber.latest_frame();
   ASSERT_TRUE(latest);
-  EXPECT_EQ(latest->colour_bytes, recorded.back().colour.size());
+  EXPECT_EQ(latest->color_bytes, recorded.back().color.size());
   ASSERT_TRUE(latest->stream) << "the replayed calibration did not reach the subscriber";
   EXPECT_EQ(latest->stream->rig.num_cameras(), 4);
   EXPECT_EQ(subscriber.stats().decode_errors, 0u);

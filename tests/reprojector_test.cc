@@ -46,8 +46,8 @@ class ReprojectorTest : public ValidatedGpuTest {
     std::size_t best = 0;
     for (std::size_t i = 0; i < inv.size(); ++i)
       if (inv.data()[i] > inv.data()[best]) best = i;
-    return equirect_direction<double>(double(best % kWidth), double(best / kWidth), kWidth,
-                                      kHeight);
+    const std::size_t column = best % kWidth, row = best / kWidth;
+    return equirect_direction<double>(double(column), double(row), kWidth, kHeight);
   }
   static inline synthetic::SyntheticRig* rig_ = nullptr;
   static inline synthetic::RenderedImage* source_ = nullptr;
@@ -60,8 +60,8 @@ Rigid3d at(const Eigen::Vector3d& position) {
 TEST_F(ReprojectorTest, SamePoseGivesThePanoramaBack) {
   Reprojector r = reprojector();
   const View view = r.render_panorama(at(rig_->viewpoint()), kWidth, kHeight);
-  const stitch::PanoramaMetrics m = stitch::evaluate_panorama(
-      view.colour, view.distance, source_->rgb, source_->inverse_distance);
+  const stitch::PanoramaMetrics m =
+      stitch::evaluate_panorama(view.color, view.distance, source_->rgb, source_->inverse_distance);
   std::printf("same pose: PSNR %.2f dB, inverse-distance MAE %.2e m^-1\n", m.psnr, m.mae);
   EXPECT_GT(m.psnr, 45.0);
   EXPECT_LT(m.mae, 1e-5);
@@ -80,7 +80,7 @@ TEST_F(ReprojectorTest, NovelPanoramasMatchTheGroundTruthThere) {
     const View view = r.render_panorama(at(position), kWidth, kHeight);
     const synthetic::RenderedImage truth = rig_->render_panorama_at(0, position, kWidth, kHeight);
     const stitch::PanoramaMetrics m =
-        stitch::evaluate_panorama(view.colour, view.distance, truth.rgb, truth.inverse_distance);
+        stitch::evaluate_panorama(view.color, view.distance, truth.rgb, truth.inverse_distance);
     const stitch::PanoramaMetrics unmoved =
         stitch::evaluate_panorama(source_->rgb, reciprocal_or_zero(source_->inverse_distance),
                                   truth.rgb, truth.inverse_distance);
@@ -112,7 +112,7 @@ TEST_F(ReprojectorTest, DisocclusionsFillFromTheBackground) {
   }();
   // Disoccluded: the ground truth there is a point the source panorama could not see.
   int disoccluded = 0, background = 0;
-  double colour_error = 0;
+  double color_error = 0;
   for (int y = 0; y < kHeight; ++y) {
     for (int x = 0; x < kWidth; ++x) {
       const std::size_t i = std::size_t(y) * kWidth + x;
@@ -132,16 +132,16 @@ TEST_F(ReprojectorTest, DisocclusionsFillFromTheBackground) {
       if (d > 0 && std::abs(1 / d - inv) < std::abs(1 / d - sphere_inverse)) ++background;
       double e = 0;
       for (int c = 0; c < 3; ++c)
-        e += std::abs(int(view.colour.data()[3 * i + c]) - int(truth.rgb.data()[3 * i + c]));
-      colour_error += e / 3;
+        e += std::abs(int(view.color.data()[3 * i + c]) - int(truth.rgb.data()[3 * i + c]));
+      color_error += e / 3;
     }
   }
   std::printf("disoccluded pixels %d: %.1f %% filled from the background, colour error %.1f\n",
               disoccluded, 100.0 * background / std::max(disoccluded, 1),
-              colour_error / std::max(disoccluded, 1));
+              color_error / std::max(disoccluded, 1));
   ASSERT_GT(disoccluded, 200);
   EXPECT_GT(double(background) / disoccluded, 0.9);
-  EXPECT_LT(colour_error / disoccluded, 30.0);
+  EXPECT_LT(color_error / disoccluded, 30.0);
 }
 
 TEST_F(ReprojectorTest, PinholeViewMatchesTheGroundTruth) {
@@ -162,7 +162,7 @@ TEST_F(ReprojectorTest, PinholeViewMatchesTheGroundTruth) {
   const synthetic::RenderedImage truth =
       synthetic::render_camera(rig_->scene(), pinhole, rig_->world_from_rig(0), 1.5);
   const stitch::PanoramaMetrics m =
-      stitch::evaluate_panorama(view.colour, view.distance, truth.rgb, truth.inverse_distance);
+      stitch::evaluate_panorama(view.color, view.distance, truth.rgb, truth.inverse_distance);
   std::printf("pinhole 256x256, 90 deg, 5 cm: PSNR %.2f dB, inverse-distance MAE %.4f m^-1\n",
               m.psnr, m.mae);
   EXPECT_GT(m.psnr, 28.0);

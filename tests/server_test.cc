@@ -23,7 +23,6 @@ namespace {
 namespace fs = std::filesystem;
 using testing::BackgroundProcess;
 using testing::run_command;
-using testing::ScratchDir;
 
 class ServerTest : public testing::StreamTest {
  protected:
@@ -156,7 +155,7 @@ TEST_F(ServerTest, SourceThatCanWaitIsReadOnlyWhenDepthHasRoom) {
 
 // The frame budget: with a budget below the stream's frame size the server lowers the colour
 // quality (reported in its status) until frames fit, and every frame still arrives.
-TEST_F(ServerTest, FrameBudgetLowersTheColourQualityUntilFramesFit) {
+TEST_F(ServerTest, FrameBudgetLowersTheColorQualityUntilFramesFit) {
   auto run = [&](const std::string& budget, std::string* out) {
     BackgroundProcess server(server_command(" --max-frame-bytes " + budget + " --dump " +
                                             (dir_.path() / budget).string()),

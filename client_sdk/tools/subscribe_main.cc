@@ -1,9 +1,9 @@
 // omnisweep-subscribe: a minimal subscriber of an omnisweep stream. Prints, once a second, the
-// frame rate, end-to-end latency (capture at the server to decoded here), bitrate and lost
-// frames; prints the calibration when it arrives and the server's status. Exits 0 once the
-// conditions given (--frames N, --statuses N, --description) are met, 1 if --timeout passes
-// first. With --dump DIR it writes each frame's colour payload as received (<seq>.jpg) and its
-// decoded distance (<seq>_distance.f32, float32 metres, row-major).
+// frame rate, end-to-end latency (wire::latency_ms: the earliest camera's capture to decoded here),
+// bitrate and lost frames; prints the calibration when it arrives and the server's status. Exits 0
+// once the conditions given (--frames N, --statuses N, --description) are met, 1 if --timeout
+// passes first. With --dump DIR it writes each frame's colour payload as received (<seq>.jpg) and
+// its decoded distance (<seq>_distance.f32, float32 metres, row-major).
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <atomic>
@@ -21,6 +21,7 @@
 #include "client_sdk/tools/tool_main.h"
 #include "omnisweep/dds/stream_subscriber.h"
 #include "omnisweep/time/clock.h"
+#include "omnisweep/wire/frame_stats.h"
 #include "omnisweep/wire/wire.h"
 
 namespace {
@@ -34,7 +35,7 @@ struct Window {
   std::mutex mutex;
   std::vector<double> latency_ms;
   std::uint64_t bytes = 0, frames = 0, lost = 0, errors = 0;
-  std::int64_t last_sequence = -1;
+  wire::GapCounter gaps;  // over the whole run; `lost` is this window's share
 };
 
 int run(int argc, char** argv) {
@@ -86,29 +87,27 @@ int run(int argc, char** argv) {
   };
   callbacks.frame = [&](const msg::RgbdFrame& frame) {
     if (want_frames && decoded >= want_frames) return;  // done: the summary counts exactly N
+    {
+      const std::lock_guard lock(window.mutex);
+      window.lost += window.gaps.see(frame.sequence_number());
+    }
     try {
       const wire::DecodedFrame decodedFrame = wire::decode_frame(frame);
       const std::uint64_t t = wall_clock_ns();
-      std::uint64_t captured = 0;
-      for (std::uint64_t c : frame.capture_time_ns()) captured = std::max(captured, c);
       if (!dump_dir.empty()) {
         const std::string base =
             (std::filesystem::path(dump_dir) / std::to_string(frame.sequence_number())).string();
-        const auto& colour = frame.color().data();
+        const auto& color = frame.color().data();
         std::ofstream(base + ".jpg", std::ios::binary)
-            .write(reinterpret_cast<const char*>(colour.data()), std::streamsize(colour.size()));
+            .write(reinterpret_cast<const char*>(color.data()), std::streamsize(color.size()));
         std::ofstream(base + "_distance.f32", std::ios::binary)
             .write(reinterpret_cast<const char*>(decodedFrame.distance.data()),
                    std::streamsize(decodedFrame.distance.size() * sizeof(float)));
       }
       const std::lock_guard lock(window.mutex);
-      window.latency_ms.push_back((double(t) - double(captured)) * 1e-6);
+      window.latency_ms.push_back(wire::latency_ms(frame.capture_time_ns(), t));
       window.bytes += frame.color().data().size() + frame.distance().data().size();
       ++window.frames;
-      const auto seq = std::int64_t(frame.sequence_number());
-      if (window.last_sequence >= 0 && seq > window.last_sequence + 1)
-        window.lost += std::uint64_t(seq - window.last_sequence - 1);
-      window.last_sequence = std::max(window.last_sequence, seq);
       ++decoded;
     } catch (const std::exception& e) {
       const std::lock_guard lock(window.mutex);

@@ -1,11 +1,11 @@
-// omnisweep-view: subscribes to a stream, prints frame rate, end-to-end latency (capture at the
-// server to decoded here) and bitrate each second, and writes the latest frame as PNGs into
-// --output: panorama.png (colour), panorama_inverse_distance.png (turbo colour map),
-// view.png and view_inverse_distance.png (a novel pinhole view rendered on the GPU from
-// --viewpoint / --offset / --yaw / --pitch / --pinhole). With --confidence, also
+// omnisweep-view: subscribes to a stream, prints frame rate, end-to-end latency (the earliest
+// camera's capture at the server to decoded here) and bitrate each second, and writes the
+// latest frame as PNGs into --output: panorama.png (colour), panorama_inverse_distance.png
+// (turbo colour map), view.png and view_inverse_distance.png (a novel pinhole view rendered on
+// the GPU from --viewpoint / --offset / --yaw / --pitch / --pinhole). With --confidence, also
 // panorama_confidence.png (8-bit, 255 = full confidence), and --min-confidence makes the view
-// inpaint over less confident distances. With --frames N it exits 0 after N frames,
-// or 1 when they have not arrived within --timeout.
+// inpaint over less confident distances. With --frames N it exits 0 after N frames, or 1 when
+// they have not arrived within --timeout.
 #include <CLI/CLI.hpp>
 #include <atomic>
 #include <chrono>
@@ -78,7 +78,7 @@ class ImageWriter {
   void write(const client::RgbdFrame& frame) {
     const float max_inverse =
         frame.stream ? 1.0f / frame.stream->distance_params.min_distance : 1 / 0.55f;
-    write_png_atomically(output_ / "panorama.png", frame.colour);
+    write_png_atomically(output_ / "panorama.png", frame.color);
     write_png_atomically(
         output_ / "panorama_inverse_distance.png",
         colorize_inverse_distance(reciprocal_or_zero(frame.distance), max_inverse));
@@ -96,11 +96,11 @@ class ImageWriter {
       options.min_confidence = view_.min_confidence;
       reprojector_.emplace(*context_, options);
     }
-    reprojector_->set_panorama(frame.colour, frame.distance, frame.viewpoint, frame.confidence);
+    reprojector_->set_panorama(frame.color, frame.distance, frame.viewpoint, frame.confidence);
     const int w = int(view_.pinhole[0]), h = int(view_.pinhole[1]);
     const reproject::View view = reprojector_->render_pinhole(
         view_pose(view_, frame), reproject::pinhole_for_fov(w, h, view_.pinhole[2]), w, h);
-    write_png_atomically(output_ / "view.png", view.colour);
+    write_png_atomically(output_ / "view.png", view.color);
     write_png_atomically(output_ / "view_inverse_distance.png",
                          colorize_inverse_distance(reciprocal_or_zero(view.distance), max_inverse));
   }
@@ -176,7 +176,7 @@ int run(int argc, char** argv) {
                                     [&](const std::shared_ptr<const client::RgbdFrame>& f) {
                                       const std::lock_guard lock(window.mutex);
                                       window.latency_ms.push_back(f->latency_ms());
-                                      window.bytes += f->colour_bytes + f->distance_bytes;
+                                      window.bytes += f->color_bytes + f->distance_bytes;
                                       ++window.frames;
                                     });
   ImageWriter writer(output, view, vk_device);

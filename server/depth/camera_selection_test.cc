@@ -136,8 +136,8 @@ TEST_F(DepthKernelTest, YCbCrGuideEqualsCpu) {
   Rgb8Image rgb(w, h, 3);
   for (auto& v : rgb.pixels()) v = std::uint8_t(byte(rng));
   rgb(0, 0, 0) = rgb(0, 0, 1) = rgb(0, 0, 2) = 255;  // clamps
-  std::vector<std::uint32_t> packed(w * h);
-  for (int p = 0; p < w * h; ++p)
+  std::vector<std::uint32_t> packed(std::size_t(w) * h);
+  for (std::ptrdiff_t p = 0; p < std::ptrdiff_t(w) * h; ++p)
     packed[p] = rgb.data()[3 * p] | (rgb.data()[3 * p + 1] << 8) | (rgb.data()[3 * p + 2] << 16);
   gpu::Buffer images(context(), packed.size() * 4), guide(context(), packed.size() * 4);
   images.upload(std::span<const std::uint32_t>(packed));

@@ -99,7 +99,7 @@ std::vector<float> CostVolume::download(int channels, int slot) const {
     }
     for (std::size_t p = 0; p < pixels; ++p) {
       for (int j = 0; j < k && c * k + j < channels; ++j)
-        out[p * channels + c * k + j] = chunk[element(j, p)];
+        out[p * channels + std::size_t(c * k + j)] = chunk[element(j, p)];
     }
   }
   return out;
@@ -115,7 +115,7 @@ void CostVolume::upload(const std::vector<float>& values, int channels, int slot
     std::vector<float> chunk(pixels * k, 0.0f);
     for (std::size_t p = 0; p < pixels; ++p) {
       for (int j = 0; j < k && c * k + j < channels; ++j)
-        chunk[element(j, p)] = values[p * channels + c * k + j];
+        chunk[element(j, p)] = values[p * channels + std::size_t(c * k + j)];
     }
     if (layout_.half) {
       const std::vector<Eigen::half> halves(chunk.begin(), chunk.end());

@@ -137,7 +137,7 @@ DepthEstimator::DepthEstimator(gpu::Context& context, const Rig& rig,
                              : std::uint64_t(width_) * height_ * 4 * rig.num_cameras()),
       guide_(context, std::uint64_t(width_) * height_ * 4 * slots()),
       dummy_(context, 16),
-      cameras_(context, slots() * rig.num_cameras() * sizeof(reproject::GpuCamera)),
+      cameras_(context, vk::DeviceSize(slots()) * rig.num_cameras() * sizeof(reproject::GpuCamera)),
       // Per slot its selection plane, then per slot its second cameras' plane.
       selections_(context, std::uint64_t(width_) * height_ * sizeof(std::int32_t) * 2 * slots()),
       distances_(context, width_, height_, VolumeLayout{1, 1, false, int(slots())}),

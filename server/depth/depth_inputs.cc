@@ -46,12 +46,11 @@ std::vector<const FloatImage*> pointers(const std::vector<FloatImage>& images) {
   return out;
 }
 
-std::vector<Rgb8Image> reference_colour_images(std::vector<Rgb8Image>& images,
-                                               const Rig& colour_rig,
-                                               const std::vector<int>& references) {
+std::vector<Rgb8Image> reference_color_images(std::vector<Rgb8Image>& images, const Rig& color_rig,
+                                              const std::vector<int>& references) {
   std::vector<Rgb8Image> out;
   for (int r : references) {
-    const RigCamera& cam = colour_rig.cameras[r];
+    const RigCamera& cam = color_rig.cameras[r];
     Rgb8Image rgb = std::move(images[r]);
     if (rgb.width() != cam.width || rgb.height() != cam.height)
       rgb = resize_area(rgb, cam.width, cam.height);

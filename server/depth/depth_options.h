@@ -3,6 +3,7 @@
 #pragma once
 
 #include <algorithm>
+#include <cmath>
 #include <cstddef>
 #include <optional>
 #include <string_view>
@@ -65,7 +66,7 @@ struct DepthOptions {
   void check(int num_cameras) const;
   // A radius given for 1024 px at the matching width (at least 1 pixel).
   int scaled_radius(int radius) const {
-    return std::max(1, int(radius * matching_width / 1024.0 + 0.5));
+    return std::max(1, int(std::lround(radius * matching_width / 1024.0)));
   }
   // sigma_s at the matching resolution (ALGORITHM.md §3 step 4).
   double scaled_sigma_s() const { return sigma_s * matching_width / 1024.0; }

@@ -200,15 +200,15 @@ std::vector<float> feature_cost_cpu(const Rig& rig, int reference, int selected,
   const std::uint32_t ref = features[reference][std::size_t(y) * w + x];
   auto difference = [&](std::uint32_t f) {
     const auto a = unpack(f), b = unpack(ref);
-    const float colour = std::abs(a[0] - b[0]) + std::abs(a[1] - b[1]) + std::abs(a[2] - b[2]);
+    const float color = std::abs(a[0] - b[0]) + std::abs(a[1] - b[1]) + std::abs(a[2] - b[2]);
     const float census = float(std::popcount((f ^ ref) >> 24)) * float(options.census_scale);
     switch (options.cost) {
       case MatchingCost::kNormalised:
-        return colour;
+        return color;
       case MatchingCost::kCensus:
         return census;
       default:
-        return colour + census;
+        return color + census;
     }
   };
   auto tap = [&](int u, int v) {  // outside the image: the largest cost
@@ -260,7 +260,7 @@ std::vector<float> isb_filter_cpu(std::vector<std::uint32_t> guide, std::vector<
     std::vector<float> cv(std::size_t(cw) * ch * channels);
     for (int y = 0; y < ch; ++y) {
       for (int x = 0; x < cw; ++x) {
-        const std::uint32_t centre = g[l][std::size_t(2 * y) * w[l] + 2 * x];
+        const std::uint32_t centre = g[l][std::size_t(2 * y) * w[l] + std::size_t(2) * x];
         float total = 0;
         std::array<float, 3> gsum = {0, 0, 0};
         std::vector<float> acc(channels, 0.0f);

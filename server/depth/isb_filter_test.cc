@@ -59,8 +59,8 @@ TEST_F(IsbFilterTest, DoesNotLeakAcrossASharpGuideEdge) {
   // Left half dark, right half bright guide (Y 16 vs 235); the values step from 0 to 100 at the
   // same edge. A plain smoothing filter would mix them; the ISB filter must not.
   const int w = 128, h = 64;
-  std::vector<std::uint32_t> guide(w * h);
-  std::vector<float> values(w * h);
+  std::vector<std::uint32_t> guide(std::size_t(w) * h);
+  std::vector<float> values(std::size_t(w) * h);
   for (int y = 0; y < h; ++y) {
     for (int x = 0; x < w; ++x) {
       guide[y * w + x] = x < w / 2 ? pack(16, 128, 128) : pack(235, 128, 128);

@@ -37,18 +37,18 @@ TEST_F(MatchingCostTest, FeaturesEqualCpu) {
     const auto gpu = estimator.matching_features(c);
     const auto cpu = matching_features_cpu(scene.images[c], 2, 2, options.feature_epsilon);
     ASSERT_EQ(gpu.size(), cpu.size());
-    long colour_off = 0, census_off = 0;
+    long color_off = 0, census_off = 0;
     for (std::size_t p = 0; p < cpu.size(); ++p) {
       for (int k = 0; k < 3; ++k) {
         const int a = int((gpu[p] >> (8 * k)) & 255), b = int((cpu[p] >> (8 * k)) & 255);
         ASSERT_LE(std::abs(a - b), 1) << "camera " << c << " pixel " << p;  // float vs double
-        colour_off += a != b;
+        color_off += a != b;
       }
       census_off += (gpu[p] >> 24) != (cpu[p] >> 24);
     }
-    std::cout << "camera " << c << ": " << colour_off << " colour bytes 1 apart, " << census_off
+    std::cout << "camera " << c << ": " << color_off << " colour bytes 1 apart, " << census_off
               << " census bytes differ, of " << cpu.size() << " pixels\n";
-    EXPECT_LT(colour_off, long(cpu.size()) / 100);
+    EXPECT_LT(color_off, long(cpu.size()) / 100);
     EXPECT_LT(census_off, long(cpu.size()) / 200);  // a neighbour within rounding of c + 1
   }
 }
@@ -117,7 +117,7 @@ double relative_change_under_gain(gpu::Context& context, MatchingCost cost) {
   return change / total;
 }
 
-TEST_F(MatchingCostTest, NormalisedCostsIgnoreAGainAndAColourCast) {
+TEST_F(MatchingCostTest, NormalisedCostsIgnoreAGainAndAColorCast) {
   // Measured at 128 px with the other two cameras 25 % brighter and cast by +-5 %: the paper's
   // cost moves by 1.85 times its mean, nad by 0.038, census by 0.14.
   const double ad = relative_change_under_gain(context(), MatchingCost::kAbsoluteDifference);

@@ -97,7 +97,7 @@ PhotometryFit estimate_photometry(const Rig& rig, const std::vector<const Rgb8Im
     struct Seen {
       int camera;
       double t2;
-      std::array<float, 3> colour;
+      std::array<float, 3> color;
     };
     std::vector<Seen> seen;
     for (int c = 0; c < n; ++c) {
@@ -117,7 +117,7 @@ PhotometryFit estimate_photometry(const Rig& rig, const std::vector<const Rgb8Im
         Sample s{seen[i1].camera, seen[i2].camera, seen[i1].t2, seen[i2].t2, {}};
         bool any = false;
         for (int k = 0; k < 3; ++k) {
-          const double va = seen[i1].colour[k], vb = seen[i2].colour[k];
+          const double va = seen[i1].color[k], vb = seen[i2].color[k];
           // Dark cells are noise, bright ones may be clipped.
           s.ratio[k] = va > 8 && vb > 8 && va < 247 && vb < 247 ? std::log(va / vb) : std::nan("");
           any = any || !std::isnan(s.ratio[k]);
@@ -129,12 +129,13 @@ PhotometryFit estimate_photometry(const Rig& rig, const std::vector<const Rgb8Im
 
   // Robust Gauss-Newton: residual = ratio - (g_a - g_b + log V_a - log V_b), Huber weights; the
   // gauge (log gains of each channel sum to 0 over the cameras) as heavy extra rows.
-  Eigen::VectorXd p = Eigen::VectorXd::Zero(n * kParams);
+  Eigen::VectorXd p = Eigen::VectorXd::Zero(Eigen::Index(n) * kParams);
   const double huber = 0.05;
   PhotometryFit fit;
   for (int iteration = 0; iteration < options.iterations; ++iteration) {
-    Eigen::MatrixXd normal = Eigen::MatrixXd::Zero(n * kParams, n * kParams);
-    Eigen::VectorXd rhs = Eigen::VectorXd::Zero(n * kParams);
+    Eigen::MatrixXd normal =
+        Eigen::MatrixXd::Zero(Eigen::Index(n) * kParams, Eigen::Index(n) * kParams);
+    Eigen::VectorXd rhs = Eigen::VectorXd::Zero(Eigen::Index(n) * kParams);
     double squares = 0;
     int inliers = 0, used = 0;
     for (const Sample& s : samples) {
@@ -231,24 +232,24 @@ void PhotometricCorrection::apply(const PhotometryFit& fit, std::vector<Rgb8Imag
 
 PhotometricCorrector::PhotometricCorrector(const Rig& matching_rig,
                                            const std::vector<std::optional<Gray8Image>>& usable,
-                                           const Rig& colour_rig, std::vector<int> references,
+                                           const Rig& color_rig, std::vector<int> references,
                                            int refresh_every)
     : matching_rig_(matching_rig),
       usable_(&usable),
       matching_(matching_rig),
-      colour_(colour_rig),
+      color_(color_rig),
       references_(std::move(references)),
       refresh_every_(std::max(1, refresh_every)) {}
 
 const PhotometryFit& PhotometricCorrector::correct(std::vector<Rgb8Image>& matching,
-                                                   std::vector<Rgb8Image>& colour) {
+                                                   std::vector<Rgb8Image>& color) {
   if (frames_++ % refresh_every_ == 0) {
     std::vector<const Rgb8Image*> images;
     for (const auto& im : matching) images.push_back(&im);
     last_ = estimate_photometry(matching_rig_, images, *usable_);
   }
   matching_.apply(last_, matching);
-  colour_.apply(last_, colour, references_);
+  color_.apply(last_, color, references_);
   return last_;
 }
 

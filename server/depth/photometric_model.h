@@ -73,17 +73,17 @@ class PhotometricCorrector {
   // first frame and again every `refresh_every` frames (exposure and white balance change
   // slowly; a stream need not pay for the fit every frame), and undone on every frame.
   PhotometricCorrector(const Rig& matching_rig,
-                       const std::vector<std::optional<Gray8Image>>& usable, const Rig& colour_rig,
+                       const std::vector<std::optional<Gray8Image>>& usable, const Rig& color_rig,
                        std::vector<int> references, int refresh_every = 1);
   // `matching`: every camera; `colour`: the references, at the colour rig's sizes.
-  const PhotometryFit& correct(std::vector<Rgb8Image>& matching, std::vector<Rgb8Image>& colour);
+  const PhotometryFit& correct(std::vector<Rgb8Image>& matching, std::vector<Rgb8Image>& color);
   const PhotometryFit& last() const { return last_; }
 
  private:
   Rig matching_rig_;
   const std::vector<std::optional<Gray8Image>>* usable_;
   PhotometricCorrection matching_;
-  PhotometricCorrection colour_;
+  PhotometricCorrection color_;
   std::vector<int> references_;
   int refresh_every_;
   long frames_ = 0;

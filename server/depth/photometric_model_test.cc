@@ -32,6 +32,7 @@ Case render(const synthetic::PhotometricOptions& photometric, int size = 256) {
 
 std::vector<const Rgb8Image*> pointers(const std::vector<Rgb8Image>& images) {
   std::vector<const Rgb8Image*> out;
+  out.reserve(images.size());
   for (const auto& im : images) out.push_back(&im);
   return out;
 }
@@ -69,7 +70,7 @@ TEST(PhotometricModel, FindsNothingWhereThereIsNothing) {
   }
 }
 
-TEST(PhotometricModel, CorrectionBringsBackTheScenesColours) {
+TEST(PhotometricModel, CorrectionBringsBackTheScenesColors) {
   const auto clean = render({});
   auto changed = render(synthetic::PhotometricOptions::realistic());
   const PhotometryFit fit =

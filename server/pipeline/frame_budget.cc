@@ -26,11 +26,11 @@ codec::Bytes FrameBudget::encode_at(const Rgb8Image& rgb, int quality) {
   return codec_at(quality).encode(rgb);
 }
 
-FrameBudget::Colour FrameBudget::encode(const Rgb8Image& rgb, std::size_t distance_bytes) {
-  Colour out{encode_at(rgb, quality_), quality_, false};
+FrameBudget::Color FrameBudget::encode(const Rgb8Image& rgb, std::size_t distance_bytes) {
+  Color out{encode_at(rgb, quality_), quality_, false};
   if (max_bytes_ == 0) return out;
-  auto fits = [&](const codec::Bytes& colour) {
-    return distance_bytes + colour.size() <= max_bytes_;
+  auto fits = [&](const codec::Bytes& color) {
+    return distance_bytes + color.size() <= max_bytes_;
   };
   if (!fits(out.bytes)) {
     while (!fits(out.bytes) && out.quality > floor_quality_) {

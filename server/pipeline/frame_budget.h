@@ -20,14 +20,14 @@ class FrameBudget {
   // (at most `quality`).
   FrameBudget(int quality, std::size_t max_bytes, int floor_quality = kFloorQuality);
 
-  struct Colour {
+  struct Color {
     codec::Bytes bytes;
     int quality = 0;
     bool over_budget = false;  // did not fit even at the floor quality
   };
   // Encodes `rgb` at the highest quality, in steps of kStep from the last frame's, at which it
   // fits beside `distance_bytes`; one encode per frame while the quality holds.
-  Colour encode(const Rgb8Image& rgb, std::size_t distance_bytes);
+  Color encode(const Rgb8Image& rgb, std::size_t distance_bytes);
 
   int quality() const { return quality_; }
   std::string codec_name() const { return codecs_.at(max_quality_)->name(); }

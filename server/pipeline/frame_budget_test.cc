@@ -28,7 +28,7 @@ std::size_t jpeg_size(const Rgb8Image& im, int quality) {
   return codec::make_color_codec(codec::kJpeg, {.quality = quality})->encode(im).size();
 }
 
-TEST(FrameBudget, LowersTheColourQualityUntilTheFrameFits) {
+TEST(FrameBudget, LowersTheColorQualityUntilTheFrameFits) {
   const Rgb8Image im = textured(512, 256);
   const std::size_t at90 = jpeg_size(im, 90), at70 = jpeg_size(im, 70), at50 = jpeg_size(im, 50);
   ASSERT_GT(at90, at70);
@@ -37,7 +37,7 @@ TEST(FrameBudget, LowersTheColourQualityUntilTheFrameFits) {
   // room to spare (so each step up is tried).
   const std::size_t distance = at90 - at70 + at90 / 5;
   FrameBudget budget(90, distance + at70);
-  const FrameBudget::Colour first = budget.encode(im, distance);
+  const FrameBudget::Color first = budget.encode(im, distance);
   EXPECT_EQ(first.quality, 70);
   EXPECT_FALSE(first.over_budget);
   EXPECT_LE(distance + first.bytes.size(), budget.max_bytes());
@@ -47,7 +47,7 @@ TEST(FrameBudget, LowersTheColourQualityUntilTheFrameFits) {
   // A smaller distance payload leaves room: one step up per frame, back to 90.
   int frames = 0;
   while (budget.quality() < 90 && frames < 10) {
-    const FrameBudget::Colour c = budget.encode(im, 0);
+    const FrameBudget::Color c = budget.encode(im, 0);
     EXPECT_LE(c.bytes.size(), budget.max_bytes());
     ++frames;
   }
@@ -58,7 +58,7 @@ TEST(FrameBudget, LowersTheColourQualityUntilTheFrameFits) {
 TEST(FrameBudget, TheFloorIsKeptAndAnOverrunReported) {
   const Rgb8Image im = textured(512, 256);
   FrameBudget budget(90, jpeg_size(im, 50) / 2);
-  const FrameBudget::Colour c = budget.encode(im, 0);
+  const FrameBudget::Color c = budget.encode(im, 0);
   EXPECT_EQ(c.quality, FrameBudget::kFloorQuality);
   EXPECT_TRUE(c.over_budget);
   EXPECT_FALSE(c.bytes.empty());  // sent anyway: the budget does not drop frames
@@ -67,7 +67,7 @@ TEST(FrameBudget, TheFloorIsKeptAndAnOverrunReported) {
 TEST(FrameBudget, NoBudgetMeansTheConfiguredQuality) {
   const Rgb8Image im = textured(256, 128);
   FrameBudget budget(90, 0);
-  const FrameBudget::Colour c = budget.encode(im, 1u << 30);
+  const FrameBudget::Color c = budget.encode(im, 1u << 30);
   EXPECT_EQ(c.quality, 90);
   EXPECT_FALSE(c.over_budget);
   EXPECT_EQ(c.bytes.size(), jpeg_size(im, 90));

@@ -7,9 +7,9 @@ GpuFrame::GpuFrame(gpu::Context& context, depth::DepthEstimator& estimator,
     : estimator_(&estimator), stitcher_(&stitcher), sequence_(context) {}
 
 stitch::Panorama GpuFrame::run(const std::vector<const Rgb8Image*>& matching,
-                               const std::vector<const Rgb8Image*>& colour) {
+                               const std::vector<const Rgb8Image*>& color) {
   estimator_->upload(matching);
-  stitcher_->upload_colour(colour);
+  stitcher_->upload_color(color);
   sequence_.begin();
   estimator_->record(sequence_);
   stitcher_->record(sequence_, estimator_->distance_buffer(), &estimator_->confidence_buffer());

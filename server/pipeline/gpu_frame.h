@@ -20,7 +20,7 @@ class GpuFrame {
   // `matching`: every camera at the matching resolution; `colour`: the references at the colour
   // resolution. The panorama's stage_ms holds the GPU time of every stage, depth's included.
   stitch::Panorama run(const std::vector<const Rgb8Image*>& matching,
-                       const std::vector<const Rgb8Image*>& colour);
+                       const std::vector<const Rgb8Image*>& color);
 
  private:
   depth::DepthEstimator* estimator_;

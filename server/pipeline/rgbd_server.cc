@@ -13,6 +13,7 @@
 #include "server/depth/photometric_model.h"
 #include "server/pipeline/bounded_queue.h"
 #include "server/pipeline/gpu_frame.h"
+#include "server/pipeline/server_status.h"
 
 namespace omnisweep::pipeline {
 namespace {
@@ -59,7 +60,7 @@ struct RgbdServer::Job {
 };
 
 struct RgbdServer::Stages {
-  Rig matching_rig, colour_rig;
+  Rig matching_rig, color_rig;
   std::vector<std::optional<Gray8Image>> masks;
   depth::DepthEstimator estimator;
   stitch::Stitcher stitcher;
@@ -73,12 +74,12 @@ struct RgbdServer::Stages {
 
   Stages(gpu::Context& context, const capture::FrameSource& source, const ServerOptions& o)
       : matching_rig(source.rig().resized(o.depth.matching_width, o.depth.matching_height)),
-        colour_rig(o.rgb_resolution
-                       ? source.rig().resized(o.rgb_resolution->first, o.rgb_resolution->second)
-                       : source.rig()),
+        color_rig(o.rgb_resolution
+                      ? source.rig().resized(o.rgb_resolution->first, o.rgb_resolution->second)
+                      : source.rig()),
         masks(depth::matching_masks(source.masks(), o.depth)),
         estimator(context, matching_rig, masks, o.depth),
-        stitcher(context, matching_rig, colour_rig, o.depth.references, masks,
+        stitcher(context, matching_rig, color_rig, o.depth.references, masks,
                  stitch::StitchOptions{.panorama_width = o.panorama_width,
                                        .panorama_height = o.panorama_height,
                                        .viewpoint = o.viewpoint,
@@ -90,7 +91,7 @@ struct RgbdServer::Stages {
         confidence_codec(codec::make_confidence_codec(codec::kConf8Zstd)),
         budget(o.jpeg_quality, o.max_frame_bytes) {
     if (o.depth.correct_photometry)
-      photometry.emplace(matching_rig, masks, colour_rig, o.depth.references,
+      photometry.emplace(matching_rig, masks, color_rig, o.depth.references,
                          /*refresh_every=*/30);  // about once a second
   }
 };
@@ -105,7 +106,6 @@ RgbdServer::RgbdServer(std::unique_ptr<capture::FrameSource> source, gpu::Contex
   options_.distance.check();
   stages_ = std::make_unique<Stages>(context, *source_, options_);
   color_quality_ = options_.jpeg_quality;
-  cameras_ = source_->camera_status();
   msg::StreamDescription& d = stages_->description;
   wire::add_rig(source_->rig(), &d);
   d.revision(wall_clock_ns());
@@ -121,6 +121,10 @@ RgbdServer::RgbdServer(std::unique_ptr<capture::FrameSource> source, gpu::Contex
   if (!options_.dump_dir.empty()) std::filesystem::create_directories(options_.dump_dir);
   if (options_.ros2)
     ros_ = std::make_unique<ros2::RosPublisher>(publisher.participant(), *options_.ros2);
+  std::vector<std::string> stage_names = {"capture", "depth", "stitch", "encode", "publish"};
+  if (ros_) stage_names.emplace_back("ros");
+  board_ = std::make_unique<StatusBoard>(std::move(stage_names));
+  board_->set_cameras(source_->camera_status());
   if (options_.foxglove) {
     foxglove_ = std::make_unique<foxglove::FoxgloveServer>(
         *options_.foxglove, foxglove::ros_channels(options_.ros2->ros_namespace));
@@ -191,31 +195,12 @@ bool RgbdServer::wait_stopped(double timeout_s) {
                         [&] { return running_threads_ == 0; });
 }
 
-std::string RgbdServer::error() const {
-  const std::lock_guard lock(stats_mutex_);
-  return error_;
-}
+std::string RgbdServer::error() const { return board_->error(); }
 
 void RgbdServer::fail(const std::string& stage, const std::string& what) {
-  {
-    const std::lock_guard lock(stats_mutex_);
-    if (error_.empty()) error_ = stage + ": " + what;
-    state_ = wire::ServerState::kFailed;
-  }
+  board_->fail(stage + ": " + what);
   finished_ = true;
   request_stop();
-}
-
-void RgbdServer::add_stage_time(const std::string& stage, double ms) {
-  const std::lock_guard lock(stats_mutex_);
-  auto& [sum, count] = stage_window_[stage];
-  sum += ms;
-  ++count;
-}
-
-void RgbdServer::count_drop(const std::string& reason) {
-  const std::lock_guard lock(stats_mutex_);
-  ++drops_[reason];
 }
 
 void RgbdServer::capture_loop() {
@@ -235,11 +220,7 @@ void RgbdServer::capture_loop() {
     try {
       frame = source_->next();
     } catch (const capture::SourceError& e) {
-      {
-        const std::lock_guard lock(stats_mutex_);
-        state_ = wire::ServerState::kSourceStalled;
-        cameras_ = source_->camera_status();
-      }
+      board_->source_stalled(source_->camera_status());
       std::fprintf(stderr, "omnisweep-server: source stalled: %s\n", e.what());
       if (options_.exit_on_source_end) throw;
       for (int i = 0; i < 10 && !stop_; ++i)
@@ -253,26 +234,17 @@ void RgbdServer::capture_loop() {
         request_stop();
         return;
       }
-      {
-        const std::lock_guard lock(stats_mutex_);
-        state_ = wire::ServerState::kSourceEnded;
-      }
+      board_->source_ended();
       std::this_thread::sleep_for(std::chrono::milliseconds(100));
       continue;
     }
-    add_stage_time("capture", ms_since(start));
-    {
-      const std::lock_guard lock(stats_mutex_);
-      cameras_ = source_->camera_status();
-      ++captured_window_;
-      if (state_ == wire::ServerState::kSourceStalled)
-        state_ = published_ > 0 ? wire::ServerState::kRunning : wire::ServerState::kStarting;
-    }
+    board_->add_stage_time("capture", ms_since(start));
+    board_->count_captured(source_->camera_status());
     auto job = std::make_shared<Job>();
     job->sequence = sequence++;
     job->capture_time_ns = std::move(frame->capture_time_ns);
     job->images = std::move(frame->images);
-    if (stages_->to_depth.push(std::move(job))) count_drop("depth busy");
+    if (stages_->to_depth.push(std::move(job))) board_->count_drop("depth busy");
   }
 }
 
@@ -285,20 +257,20 @@ void RgbdServer::gpu_loop() {
     const auto start = Clock::now();
     job.processing_start_ns = wall_clock_ns();
     std::vector<Rgb8Image> images = depth::matching_images(job.images, options_.depth);
-    std::vector<Rgb8Image> colour =
-        depth::reference_colour_images(job.images, stages_->colour_rig, options_.depth.references);
-    if (stages_->photometry) stages_->photometry->correct(images, colour);
-    job.panorama = stages_->gpu_frame.run(depth::pointers(images), depth::pointers(colour));
+    std::vector<Rgb8Image> color =
+        depth::reference_color_images(job.images, stages_->color_rig, options_.depth.references);
+    if (stages_->photometry) stages_->photometry->correct(images, color);
+    job.panorama = stages_->gpu_frame.run(depth::pointers(images), depth::pointers(color));
     job.images.clear();
     double stitch_ms = 0;
     for (const auto& [stage, ms] : job.panorama.stage_ms)
       if (stage == "warp" || stage == "merge") stitch_ms += ms;
-    add_stage_time("depth", ms_since(start) - stitch_ms);
-    add_stage_time("stitch", stitch_ms);
+    board_->add_stage_time("depth", ms_since(start) - stitch_ms);
+    board_->add_stage_time("stitch", stitch_ms);
     // Behind a source that waits, a stage waits for the next one too: no frame is computed only
     // to be dropped. Behind live cameras the newest frame replaces a waiting one.
     if (!source_->live() && !stages_->to_encode.wait_for_room()) break;
-    if (stages_->to_encode.push(std::move(*item))) count_drop("encoder busy");
+    if (stages_->to_encode.push(std::move(*item))) board_->count_drop("encoder busy");
   }
 }
 
@@ -309,15 +281,15 @@ void RgbdServer::encode_loop() {
     const codec::Bytes distance =
         stages_->distance_codec->encode(job.panorama.distance, options_.distance);
     const int quality_before = stages_->budget.quality();
-    FrameBudget::Colour encoded = stages_->budget.encode(job.panorama.rgb, distance.size());
-    const codec::Bytes& colour = encoded.bytes;
+    FrameBudget::Color encoded = stages_->budget.encode(job.panorama.rgb, distance.size());
+    const codec::Bytes& color = encoded.bytes;
     color_quality_ = encoded.quality;
     if (encoded.over_budget) ++frames_over_budget_;
     if (encoded.quality != quality_before) {
       std::fprintf(stderr,
                    "omnisweep-server: colour JPEG quality %d -> %d (frame of %zu bytes, budget "
                    "%zu)%s\n",
-                   quality_before, encoded.quality, colour.size() + distance.size(),
+                   quality_before, encoded.quality, color.size() + distance.size(),
                    options_.max_frame_bytes,
                    encoded.over_budget ? ": over budget even at the lowest quality" : "");
     }
@@ -330,7 +302,7 @@ void RgbdServer::encode_loop() {
     m.viewpoint(stages_->description.viewpoint());
     m.width(std::uint32_t(job.panorama.rgb.width()));
     m.height(std::uint32_t(job.panorama.rgb.height()));
-    m.color(wire::make_payload(stages_->budget.codec_name(), colour));
+    m.color(wire::make_payload(stages_->budget.codec_name(), color));
     m.distance(wire::make_payload(stages_->distance_codec->name(), distance));
     m.distance_params(wire::to_message(options_.distance));
     if (options_.confidence) {
@@ -348,7 +320,7 @@ void RgbdServer::encode_loop() {
       const std::filesystem::path base =
           std::filesystem::path(options_.dump_dir) / std::to_string(job.sequence);
       std::ofstream(base.string() + ".jpg", std::ios::binary)
-          .write(reinterpret_cast<const char*>(colour.data()), std::streamsize(colour.size()));
+          .write(reinterpret_cast<const char*>(color.data()), std::streamsize(color.size()));
       std::ofstream(base.string() + "_distance.f32", std::ios::binary)
           .write(reinterpret_cast<const char*>(job.panorama.distance.data()),
                  std::streamsize(job.panorama.distance.size() * sizeof(float)));
@@ -357,8 +329,8 @@ void RgbdServer::encode_loop() {
                  (foxglove_ && foxglove::wanted(*foxglove_).points)))
       job.ros_color = std::move(job.panorama.rgb);
     job.panorama = {};
-    add_stage_time("encode", ms_since(start));
-    if (stages_->to_publish.push(std::move(*item))) count_drop("network busy");
+    board_->add_stage_time("encode", ms_since(start));
+    if (stages_->to_publish.push(std::move(*item))) board_->count_drop("network busy");
   }
 }
 
@@ -369,14 +341,9 @@ void RgbdServer::publish_loop() {
     if ((*item)->confidence) publisher_->publish(*(*item)->confidence);
     (*item)->message.publish_time_ns(wall_clock_ns());
     publisher_->publish((*item)->message);
-    add_stage_time("publish", ms_since(start));
-    {
-      const std::lock_guard lock(stats_mutex_);
-      ++published_window_;
-      if (state_ == wire::ServerState::kStarting)
-        state_ = wire::ServerState::kRunning;  // the first frame is out
-    }
-    if (ros_wanted() && stages_->to_ros.push(std::move(*item))) count_drop("ros busy");
+    board_->add_stage_time("publish", ms_since(start));
+    board_->count_published();
+    if (ros_wanted() && stages_->to_ros.push(std::move(*item))) board_->count_drop("ros busy");
     if (++published_ == options_.max_frames && options_.max_frames > 0) {
       finished_ = true;
       done_.notify_all();
@@ -391,66 +358,18 @@ void RgbdServer::ros_loop() {
     const Job& job = **item;
     const msg::RgbdFrame& m = job.message;
     const auto start = Clock::now();
-    ros2::FrameInputs frame;
-    frame.stamp_ns = job.capture_time_ns.empty() ? job.processing_start_ns
-                                                 : *std::min_element(job.capture_time_ns.begin(),
-                                                                     job.capture_time_ns.end());
-    frame.width = int(m.width());
-    frame.height = int(m.height());
-    frame.jpeg = m.color().data();
-    frame.distance = m.distance().data();
-    frame.distance_codec = m.distance().codec();
-    frame.distance_params = options_.distance;
+    // What any receiver of the frame would take from it (ros2::frame_inputs, CRCs checked).
+    ros2::FrameInputs frame = ros2::frame_inputs(m);
     if (!job.ros_color.empty()) frame.color = &job.ros_color;
-    frame.viewpoint = stages_->stitcher.viewpoint();
     const ros2::FrameMessages messages =
         ros_->publish_frame(frame, foxglove_ ? foxglove::wanted(*foxglove_) : ros2::WantedTopics{});
     if (foxglove_) foxglove::publish(*foxglove_, messages);
-    add_stage_time("ros", ms_since(start));
+    board_->add_stage_time("ros", ms_since(start));
   }
-}
-
-msg::ServerStatus RgbdServer::make_status() {
-  static const char* const kStages[] = {"capture", "depth", "stitch", "encode", "publish", "ros"};
-  msg::ServerStatus s;
-  s.time_ns(wall_clock_ns());
-  s.matched_subscribers(publisher_->frame_subscribers());
-  const std::lock_guard lock(stats_mutex_);
-  s.state(std::string(wire::to_string(stop_ ? wire::ServerState::kStopping : state_)));
-  s.fps_in(float(captured_window_));
-  s.fps_out(float(published_window_));
-  captured_window_ = published_window_ = 0;
-  std::vector<msg::StageTime> stages;
-  for (const char* name : kStages) {
-    if (!ros_ && std::string_view(name) == "ros") continue;
-    msg::StageTime t;
-    t.stage(name);
-    // A server slower than one frame a second finishes no frame in many windows: they carry the
-    // stage's latest time, so a subscriber can tell what a frame costs (0 until it ran once).
-    const auto it = stage_window_.find(name);
-    if (it != stage_window_.end()) last_stage_ms_[name] = it->second.first / it->second.second;
-    const auto last = last_stage_ms_.find(name);
-    t.ms(last == last_stage_ms_.end() ? 0.0f : float(last->second));
-    stages.push_back(t);
-  }
-  stage_window_.clear();
-  s.stage_ms(stages);
-  std::vector<msg::DropCount> dropped;
-  for (const auto& [reason, count] : drops_) {
-    msg::DropCount d;
-    d.reason(reason);
-    d.count(count);
-    dropped.push_back(d);
-  }
-  s.dropped(dropped);
-  s.color_quality(color_quality_);
-  s.frames_over_budget(frames_over_budget_);
-  return s;
 }
 
 void RgbdServer::status_loop() {
   auto next = Clock::now();
-  std::vector<std::uint64_t> frames_before;
   double since_log = 0;
   while (!stop_) {
     next += std::chrono::seconds(1);
@@ -459,27 +378,11 @@ void RgbdServer::status_loop() {
       done_.wait_until(lock, next, [&] { return bool(stop_); });
     }
     if (stop_) break;
-    msg::ServerStatus status = make_status();
-    // Camera fps over the last second, from the source's frame counters.
-    std::vector<capture::CameraStatus> health;
-    {
-      const std::lock_guard lock(stats_mutex_);
-      health = cameras_;
-    }
-    std::vector<msg::CameraHealth> cameras;
-    for (std::size_t i = 0; i < health.size(); ++i) {
-      msg::CameraHealth h;
-      h.camera(std::int32_t(i));
-      h.delivering(health[i].delivering);
-      h.last_frame_ns(health[i].last_frame_ns);
-      h.message(health[i].message);
-      h.fps(frames_before.size() == health.size() ? float(health[i].frames - frames_before[i])
-                                                  : 0.0f);
-      cameras.push_back(h);
-    }
-    frames_before.clear();
-    for (const auto& h : health) frames_before.push_back(h.frames);
-    status.cameras(cameras);
+    msg::ServerStatus status =
+        board_->take(wall_clock_ns(), {.stopping = stop_,
+                                       .matched_subscribers = publisher_->frame_subscribers(),
+                                       .color_quality = color_quality_,
+                                       .frames_over_budget = frames_over_budget_});
     publisher_->publish(status);
     if (ros_) {
       const auto diagnostics = ros_->publish_diagnostics(status.time_ns(), status);
@@ -490,14 +393,6 @@ void RgbdServer::status_loop() {
     since_log += 1.0;
     if (options_.log_interval_s > 0 && since_log >= options_.log_interval_s) {
       since_log = 0;
-      std::string stages;
-      for (const auto& t : status.stage_ms()) {
-        char buf[64];
-        std::snprintf(buf, sizeof buf, " %s %.0f", t.stage().c_str(), t.ms());
-        stages += buf;
-      }
-      std::uint64_t drops = 0;
-      for (const auto& d : status.dropped()) drops += d.count();
       std::string foxglove;
       if (foxglove_) {
         const foxglove::FoxgloveStats f = foxglove_->stats();
@@ -505,13 +400,8 @@ void RgbdServer::status_loop() {
                    std::to_string(f.sent) + " sent, " + std::to_string(f.dropped) +
                    " dropped by slow clients, " + std::to_string(f.refused) + " bad requests";
       }
-      std::fprintf(stderr,
-                   "omnisweep-server: %s, %.0f fps in, %.0f fps out, ms:%s, %llu dropped, %d "
-                   "subscribers, %llu published, colour quality %d%s\n",
-                   status.state().c_str(), status.fps_in(), status.fps_out(), stages.c_str(),
-                   static_cast<unsigned long long>(drops), status.matched_subscribers(),
-                   static_cast<unsigned long long>(published_.load()), status.color_quality(),
-                   foxglove.c_str());
+      std::fprintf(stderr, "omnisweep-server: %s\n",
+                   status_log_line(status, published_, foxglove).c_str());
     }
   }
 }

@@ -20,7 +20,6 @@
 #include "omnisweep/foxglove/foxglove_server.h"
 #include "omnisweep/gpu/context.h"
 #include "omnisweep/ros2/ros_publisher.h"
-#include "omnisweep/wire/wire.h"
 #include "server/capture/frame_source.h"
 #include "server/depth/depth_options.h"
 #include "server/pipeline/frame_budget.h"
@@ -59,6 +58,8 @@ struct ServerOptions {
   void check() const;  // throws std::invalid_argument naming the bad option
 };
 
+class StatusBoard;
+
 class RgbdServer {
  public:
   RgbdServer(std::unique_ptr<capture::FrameSource> source, gpu::Context& context,
@@ -90,9 +91,6 @@ class RgbdServer {
   void ros_loop();
   void status_loop();
   void fail(const std::string& stage, const std::string& what);
-  void add_stage_time(const std::string& stage, double ms);
-  void count_drop(const std::string& reason);
-  msg::ServerStatus make_status();
 
   std::unique_ptr<capture::FrameSource> source_;
   gpu::Context* context_;
@@ -115,15 +113,7 @@ class RgbdServer {
   std::mutex done_mutex_;
   std::condition_variable done_;
 
-  mutable std::mutex stats_mutex_;
-  std::map<std::string, std::pair<double, int>> stage_window_;  // sum ms, count this second
-  std::map<std::string, double> last_stage_ms_;  // the latest second's mean that had frames
-  std::map<std::string, std::uint64_t> drops_;
-  // The source's camera status, copied by the capture thread (the only one calling the source).
-  std::vector<capture::CameraStatus> cameras_;
-  std::uint64_t captured_window_ = 0, published_window_ = 0;
-  wire::ServerState state_ = wire::ServerState::kStarting;
-  std::string error_;
+  std::unique_ptr<StatusBoard> board_;  // the status: stage times, drops, state, cameras
 };
 
 }  // namespace omnisweep::pipeline

@@ -16,9 +16,9 @@ Eigen::Vector3d mean_position(const Rig& rig, const std::vector<int>& references
 std::uint64_t area(const RigCamera& c) { return std::uint64_t(c.width) * c.height; }
 
 // The model of the merge's cameras (both rigs'), where they share one.
-reproject::GpuModel merge_model(const Rig& matching, const Rig& colour) {
+reproject::GpuModel merge_model(const Rig& matching, const Rig& color) {
   const reproject::GpuModel m = reproject::common_model(matching);
-  return m == reproject::common_model(colour) ? m : reproject::GpuModel::kAny;
+  return m == reproject::common_model(color) ? m : reproject::GpuModel::kAny;
 }
 
 struct MergePush {
@@ -61,7 +61,7 @@ void StitchOptions::check() const {
   }
 }
 
-Stitcher::Stitcher(gpu::Context& context, const Rig& matching_rig, const Rig& colour_rig,
+Stitcher::Stitcher(gpu::Context& context, const Rig& matching_rig, const Rig& color_rig,
                    const std::vector<int>& references,
                    const std::vector<std::optional<Gray8Image>>& usable,
                    const StitchOptions& options)
@@ -69,7 +69,7 @@ Stitcher::Stitcher(gpu::Context& context, const Rig& matching_rig, const Rig& co
       options_(options),
       references_(references),
       matching_rig_(matching_rig),
-      colour_rig_(colour_rig),
+      color_rig_(color_rig),
       viewpoint_(options.viewpoint ? *options.viewpoint : mean_position(matching_rig, references)),
       allocated_before_(context.allocated_bytes()),
       cameras_(context, 2 * references.size() * sizeof(reproject::GpuCamera)),
@@ -77,8 +77,8 @@ Stitcher::Stitcher(gpu::Context& context, const Rig& matching_rig, const Rig& co
                             options.panorama_height * 4),
       distances_(context, references.size() * area(matching_rig.cameras.at(references.at(0))) * 4),
       confidences_(context, distances_.size()),
-      colour_(context, references.size() * area(colour_rig.cameras.at(references.at(0))) * 4),
-      out_colour_(context, std::uint64_t(options.panorama_width) * options.panorama_height * 4),
+      color_(context, references.size() * area(color_rig.cameras.at(references.at(0))) * 4),
+      out_color_(context, std::uint64_t(options.panorama_width) * options.panorama_height * 4),
       out_distance_(context, std::uint64_t(options.panorama_width) * options.panorama_height * 4),
       out_confidence_(context, out_distance_.size()),
       merge_(context, gpu::Shader::kStitchMerge,
@@ -86,18 +86,18 @@ Stitcher::Stitcher(gpu::Context& context, const Rig& matching_rig, const Rig& co
                            gpu::BindingSlot::texels(), gpu::BindingSlot::texels(),
                            gpu::BindingSlot::texels(), 1, 1, gpu::BindingSlot::texels(), 1},
               .push_constant_bytes = sizeof(MergeConfidencePush),
-              .constants = reproject::model_constants(merge_model(matching_rig, colour_rig))}),
+              .constants = reproject::model_constants(merge_model(matching_rig, color_rig))}),
       sequence_(context) {
   options.check();
   const RigCamera& first = matching_rig.cameras[references[0]];
-  const RigCamera& first_colour = colour_rig.cameras[references[0]];
+  const RigCamera& first_color = color_rig.cameras[references[0]];
   std::vector<reproject::GpuCamera> cameras;
   std::vector<reproject::WarpLayer> layers;
   for (int ref : references) {
     const RigCamera& cam = matching_rig.cameras.at(ref);
-    const RigCamera& colour_cam = colour_rig.cameras.at(ref);
+    const RigCamera& color_cam = color_rig.cameras.at(ref);
     if (cam.width != first.width || cam.height != first.height ||
-        colour_cam.width != first_colour.width || colour_cam.height != first_colour.height) {
+        color_cam.width != first_color.width || color_cam.height != first_color.height) {
       throw std::invalid_argument(
           "reference cameras must share one matching and one colour resolution");
     }
@@ -110,7 +110,7 @@ Stitcher::Stitcher(gpu::Context& context, const Rig& matching_rig, const Rig& co
     cameras.push_back(reproject::pack_camera(cam.model, cam.width, cam.height,
                                              Rigid3d(cam_from_rig.rotation, t_c)));
     cameras.push_back(
-        reproject::pack_camera(colour_cam.model, colour_cam.width, colour_cam.height, Rigid3d()));
+        reproject::pack_camera(color_cam.model, color_cam.width, color_cam.height, Rigid3d()));
   }
   cameras_.upload(cameras.data(), cameras.size() * sizeof(reproject::GpuCamera));
   warper_.emplace(
@@ -187,13 +187,13 @@ std::vector<FloatImage> Stitcher::weights() const {
   return out;
 }
 
-void Stitcher::check_colour(const std::vector<const Rgb8Image*>& colour) const {
-  if (colour.size() != references_.size())
+void Stitcher::check_color(const std::vector<const Rgb8Image*>& color) const {
+  if (color.size() != references_.size())
     throw std::invalid_argument("stitch: expected one colour image per reference");
-  const RigCamera& first_colour = colour_rig_.cameras[references_[0]];
+  const RigCamera& first_color = color_rig_.cameras[references_[0]];
   for (std::size_t k = 0; k < references_.size(); ++k) {
-    if (colour[k]->width() != first_colour.width || colour[k]->height() != first_colour.height ||
-        colour[k]->channels() != 3) {
+    if (color[k]->width() != first_color.width || color[k]->height() != first_color.height ||
+        color[k]->channels() != 3) {
       throw std::invalid_argument("stitch: colour image of reference " +
                                   std::to_string(references_[k]) +
                                   " is not RGB at the colour resolution");
@@ -201,13 +201,13 @@ void Stitcher::check_colour(const std::vector<const Rgb8Image*>& colour) const {
   }
 }
 
-void Stitcher::upload_colour(const std::vector<const Rgb8Image*>& colour) {
-  check_colour(colour);
-  const std::uint64_t colour_area = area(colour_rig_.cameras[references_[0]]);
-  std::vector<std::uint32_t> packed(colour_area);
+void Stitcher::upload_color(const std::vector<const Rgb8Image*>& color) {
+  check_color(color);
+  const std::uint64_t color_area = area(color_rig_.cameras[references_[0]]);
+  std::vector<std::uint32_t> packed(color_area);
   for (std::size_t k = 0; k < references_.size(); ++k) {
-    reproject::pack_rgba8(*colour[k], packed);
-    colour_.upload(packed.data(), colour_area * 4, k * colour_area * 4);
+    reproject::pack_rgba8(*color[k], packed);
+    color_.upload(packed.data(), color_area * 4, k * color_area * 4);
   }
 }
 
@@ -227,7 +227,7 @@ void Stitcher::record(gpu::Sequence& seq, const gpu::Buffer& distance,
                {cameras_, gpu::Texels(weights_, gpu::TexelFormat::kR32Float),
                 gpu::Texels(warper_->result(), gpu::TexelFormat::kR32Uint),
                 gpu::Texels(distance, gpu::TexelFormat::kR32Float),
-                gpu::Texels(colour_, gpu::TexelFormat::kR32Uint), out_colour_, out_distance_,
+                gpu::Texels(color_, gpu::TexelFormat::kR32Uint), out_color_, out_distance_,
                 gpu::Texels(confidence ? *confidence : distance, gpu::TexelFormat::kR32Float),
                 out_confidence_},
                MergeConfidencePush{std::uint32_t(options_.panorama_width),
@@ -237,7 +237,7 @@ void Stitcher::record(gpu::Sequence& seq, const gpu::Buffer& distance,
                merge_.groups_for(options_.panorama_width, options_.panorama_height));
   if (temporal_) {
     seq.barrier();
-    temporal_->record(seq, out_distance_, out_colour_);
+    temporal_->record(seq, out_distance_, out_color_);
   }
   seq.end_stage();
 }
@@ -250,7 +250,7 @@ Panorama Stitcher::download() const {
   out_distance_.download(out.distance.data(), out.distance.size() * 4);
   out_confidence_.download(out.confidence.data(), out.confidence.size() * 4);
   std::vector<std::uint32_t> rgba(out.distance.size());
-  out_colour_.download(rgba.data(), rgba.size() * 4);
+  out_color_.download(rgba.data(), rgba.size() * 4);
   for (std::size_t p = 0; p < rgba.size(); ++p) {
     for (int c = 0; c < 3; ++c)
       out.rgb.data()[3 * p + c] = std::uint8_t((rgba[p] >> (8 * c)) & 255);
@@ -259,9 +259,9 @@ Panorama Stitcher::download() const {
 }
 
 Panorama Stitcher::stitch(const std::vector<const FloatImage*>& distance,
-                          const std::vector<const Rgb8Image*>& colour,
+                          const std::vector<const Rgb8Image*>& color,
                           const std::vector<const FloatImage*>& confidence) {
-  if (distance.size() != references_.size() || colour.size() != references_.size()) {
+  if (distance.size() != references_.size() || color.size() != references_.size()) {
     throw std::invalid_argument(
         "stitch: expected one distance map and one colour image per reference");
   }
@@ -275,7 +275,7 @@ Panorama Stitcher::stitch(const std::vector<const FloatImage*>& distance,
                                   " is not at the matching resolution");
     }
   }
-  upload_colour(colour);
+  upload_color(color);
   for (std::size_t k = 0; k < references_.size(); ++k)
     distances_.upload(distance[k]->data(), area(first) * 4, k * area(first) * 4);
   for (std::size_t k = 0; k < confidence.size(); ++k) {

@@ -48,7 +48,7 @@ class Stitcher {
   // `matching_rig`: the calibration at the resolution of the distance maps; `colour_rig`: at
   // the resolution of the colour images (may be higher); `usable` per camera at the matching
   // resolution (or empty).
-  Stitcher(gpu::Context& context, const Rig& matching_rig, const Rig& colour_rig,
+  Stitcher(gpu::Context& context, const Rig& matching_rig, const Rig& color_rig,
            const std::vector<int>& references, const std::vector<std::optional<Gray8Image>>& usable,
            const StitchOptions& options);
 
@@ -57,7 +57,7 @@ class Stitcher {
   // (DepthResult::confidence), or empty (the panorama's confidence then comes from the
   // geometry alone).
   Panorama stitch(const std::vector<const FloatImage*>& distance,
-                  const std::vector<const Rgb8Image*>& colour,
+                  const std::vector<const Rgb8Image*>& color,
                   const std::vector<const FloatImage*>& confidence = {});
 
   // The same on distance maps already on the GPU (DepthEstimator::distance_buffer: reference k's
@@ -66,7 +66,7 @@ class Stitcher {
   // recorded first, a frame is one submission from the camera images to the panorama: no host
   // round trip between them. `distance` (and `confidence`, laid out the same way, or null) must
   // stay alive until the submission has run.
-  void upload_colour(const std::vector<const Rgb8Image*>& colour);
+  void upload_color(const std::vector<const Rgb8Image*>& color);
   void record(gpu::Sequence& seq, const gpu::Buffer& distance,
               const gpu::Buffer* confidence = nullptr);
   Panorama download() const;
@@ -82,13 +82,13 @@ class Stitcher {
 
  private:
   void compute_weights(const std::vector<std::optional<Gray8Image>>& usable);
-  void check_colour(const std::vector<const Rgb8Image*>& colour) const;
+  void check_color(const std::vector<const Rgb8Image*>& color) const;
 
   gpu::Context* context_;
   StitchOptions options_;
   std::vector<int> references_;
   Rig matching_rig_;
-  Rig colour_rig_;
+  Rig color_rig_;
   Eigen::Vector3d viewpoint_;
   std::uint64_t allocated_before_;
   std::optional<reproject::ForwardWarper> warper_;  // one layer per reference
@@ -96,8 +96,8 @@ class Stitcher {
   gpu::Buffer confidences_;  // and their confidences
   gpu::Buffer cameras_;
   gpu::Buffer weights_;
-  gpu::Buffer colour_;
-  gpu::Buffer out_colour_;
+  gpu::Buffer color_;
+  gpu::Buffer out_color_;
   gpu::Buffer out_distance_;
   gpu::Buffer out_confidence_;
   gpu::Kernel merge_;

@@ -25,7 +25,7 @@ std::uint32_t reset_pixels(std::size_t pixels, double share) {
   return std::uint32_t(std::floor(double(pixels) * share));
 }
 
-float colour_moved(std::uint32_t a, std::uint32_t b) {
+float color_moved(std::uint32_t a, std::uint32_t b) {
   float sum = 0;
   for (int c = 0; c < 3; ++c)
     sum += std::abs(float((a >> (8 * c)) & 255u) - float((b >> (8 * c)) & 255u));
@@ -39,37 +39,37 @@ void TemporalOptions::check() const {
     throw reproject::option_error("TemporalOptions", "max_frames", max_frames, "1-1000");
   if (!(jump > 0) || !std::isfinite(jump))
     throw reproject::option_error("TemporalOptions", "jump", jump, "a positive number (1/m)");
-  if (!(colour_threshold >= 0) || !(colour_threshold <= 765)) {
-    throw reproject::option_error("TemporalOptions", "colour_threshold", colour_threshold,
+  if (!(color_threshold >= 0) || !(color_threshold <= 765)) {
+    throw reproject::option_error("TemporalOptions", "colour_threshold", color_threshold,
                                   "0-765 (8-bit levels over R, G and B)");
   }
   if (!(reset_share >= 0 && reset_share <= 1))
     throw reproject::option_error("TemporalOptions", "reset_share", reset_share, "0-1");
 }
 
-void temporal_filter_cpu(TemporalState& state, FloatImage& distance, const Rgb8Image& colour,
+void temporal_filter_cpu(TemporalState& state, FloatImage& distance, const Rgb8Image& color,
                          const TemporalOptions& options) {
   options.check();
   const std::size_t n = distance.size();
-  if (colour.width() != distance.width() || colour.height() != distance.height())
+  if (color.width() != distance.width() || color.height() != distance.height())
     throw std::invalid_argument("temporal filter: colour and distance differ in size");
   std::vector<std::uint32_t> packed(n);  // as the kernels read colour (alpha is not compared)
-  reproject::pack_rgba8(colour, packed);
+  reproject::pack_rgba8(color, packed);
   if (state.mean_inverse.size() != n) {
     state = {std::vector<float>(n, 0.0f), std::vector<float>(n, 0.0f),
              std::vector<std::uint32_t>(n, 0u), false};
   }
-  const auto threshold = float(options.colour_threshold);
+  const auto threshold = float(options.color_threshold);
   std::uint32_t changed = 0;
   for (std::size_t i = 0; i < n; ++i)
-    changed += colour_moved(packed[i], state.previous_colour[i]) > threshold;
+    changed += color_moved(packed[i], state.previous_color[i]) > threshold;
   const bool reset_all = !state.started || changed > reset_pixels(n, options.reset_share);
   const auto jump = float(options.jump), max_frames = float(options.max_frames);
   for (std::size_t i = 0; i < n; ++i) {
     const float d = distance.data()[i];
     const float z = d > 0.0f ? 1.0f / d : 0.0f;
     float x = state.mean_inverse[i], count = state.count[i];
-    if (reset_all || colour_moved(packed[i], state.previous_colour[i]) > threshold || !(z > 0) ||
+    if (reset_all || color_moved(packed[i], state.previous_color[i]) > threshold || !(z > 0) ||
         !(x > 0) || std::abs(z - x) >= jump) {
       x = z;
       count = 1.0f;
@@ -79,7 +79,7 @@ void temporal_filter_cpu(TemporalState& state, FloatImage& distance, const Rgb8I
     }
     state.mean_inverse[i] = x;
     state.count[i] = count;
-    state.previous_colour[i] = packed[i];
+    state.previous_color[i] = packed[i];
     distance.data()[i] = x > 0.0f ? 1.0f / x : 0.0f;
   }
   state.started = true;
@@ -93,25 +93,25 @@ TemporalFilter::TemporalFilter(gpu::Context& context, int width, int height,
       pixels_(width_ * height_),
       mean_inverse_(context, std::uint64_t(pixels_) * 4),
       count_(context, std::uint64_t(pixels_) * 4),
-      previous_colour_(context, std::uint64_t(pixels_) * 4),
+      previous_color_(context, std::uint64_t(pixels_) * 4),
       changed_(context, 16),
       changes_(context, gpu::Shader::kTemporalChanges,
                {.bindings = {1, 1, 1}, .push_constant_bytes = sizeof(ChangesPush)}),
       filter_(context, gpu::Shader::kTemporalFilter,
               {.bindings = {1, 1, 1, 1, 1, 1}, .push_constant_bytes = sizeof(FilterPush)}) {}
 
-void TemporalFilter::record(gpu::Sequence& seq, gpu::Buffer& distance, const gpu::Buffer& colour) {
-  if (distance.size() < std::uint64_t(pixels_) * 4 || colour.size() < std::uint64_t(pixels_) * 4)
+void TemporalFilter::record(gpu::Sequence& seq, gpu::Buffer& distance, const gpu::Buffer& color) {
+  if (distance.size() < std::uint64_t(pixels_) * 4 || color.size() < std::uint64_t(pixels_) * 4)
     throw std::invalid_argument("temporal filter: the panorama buffers are smaller than its size");
-  const auto threshold = float(options_.colour_threshold);
+  const auto threshold = float(options_.color_threshold);
   seq.begin_stage("temporal");
   seq.fill(changed_, 0u);
   seq.barrier();
-  seq.dispatch(changes_, {colour, previous_colour_, changed_},
+  seq.dispatch(changes_, {color, previous_color_, changed_},
                ChangesPush{width_, height_, threshold}, changes_.groups_for(width_, height_));
   seq.barrier();
   seq.dispatch(
-      filter_, {distance, colour, mean_inverse_, count_, previous_colour_, changed_},
+      filter_, {distance, color, mean_inverse_, count_, previous_color_, changed_},
       FilterPush{width_, height_, threshold, float(options_.jump), float(options_.max_frames),
                  reset_pixels(pixels_, options_.reset_share), started_ ? 0u : 1u},
       filter_.groups_for(width_, height_));

@@ -17,10 +17,10 @@
 namespace omnisweep::stitch {
 
 struct TemporalOptions {
-  int max_frames = 8;              // frames in the running mean at most (1: no filtering)
-  double jump = 0.1;               // 1/m: a new inverse distance this far from the mean restarts
-  double colour_threshold = 20.0;  // sum of |dR| + |dG| + |dB| (8-bit) that restarts a pixel
-  double reset_share = 0.05;       // share of pixels whose colour moved that restarts them all
+  int max_frames = 8;             // frames in the running mean at most (1: no filtering)
+  double jump = 0.1;              // 1/m: a new inverse distance this far from the mean restarts
+  double color_threshold = 20.0;  // sum of |dR| + |dG| + |dB| (8-bit) that restarts a pixel
+  double reset_share = 0.05;      // share of pixels whose colour moved that restarts them all
   // Throws std::invalid_argument naming the field, its value and what is allowed.
   void check() const;
 };
@@ -29,13 +29,13 @@ struct TemporalOptions {
 struct TemporalState {
   std::vector<float> mean_inverse;
   std::vector<float> count;
-  std::vector<std::uint32_t> previous_colour;  // packed RGB
+  std::vector<std::uint32_t> previous_color;  // packed RGB
   bool started = false;
 };
 
 // One frame through the filter, in place: `distance` (metres, 0 = none) becomes the filtered
 // distance; `colour` is the frame's colour panorama. Float arithmetic in the kernel's order.
-void temporal_filter_cpu(TemporalState& state, FloatImage& distance, const Rgb8Image& colour,
+void temporal_filter_cpu(TemporalState& state, FloatImage& distance, const Rgb8Image& color,
                          const TemporalOptions& options);
 
 class TemporalFilter {
@@ -44,7 +44,7 @@ class TemporalFilter {
 
   // Records the filter into `seq` (after what writes `distance` and `colour`, panorama-sized
   // floats and packed RGB): `distance` is filtered in place.
-  void record(gpu::Sequence& seq, gpu::Buffer& distance, const gpu::Buffer& colour);
+  void record(gpu::Sequence& seq, gpu::Buffer& distance, const gpu::Buffer& color);
   // The next frame starts the filter again everywhere.
   void reset() { started_ = false; }
   const TemporalOptions& options() const { return options_; }
@@ -54,7 +54,7 @@ class TemporalFilter {
   std::uint32_t width_, height_, pixels_;
   gpu::Buffer mean_inverse_;
   gpu::Buffer count_;
-  gpu::Buffer previous_colour_;
+  gpu::Buffer previous_color_;
   gpu::Buffer changed_;
   gpu::Kernel changes_;
   gpu::Kernel filter_;

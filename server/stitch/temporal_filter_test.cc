@@ -25,18 +25,18 @@ std::pair<FloatImage, Rgb8Image> noisy_frame(int f, double sigma) {
   std::normal_distribution<float> noise(0.0f, float(sigma));
   std::uniform_int_distribution<int> jitter(-2, 2);
   FloatImage distance(kW, kH, 1);
-  Rgb8Image colour(kW, kH, 3);
+  Rgb8Image color(kW, kH, 3);
   for (int y = 0; y < kH; ++y) {
     for (int x = 0; x < kW; ++x) {
       const int i = y * kW + x;
       distance.data()[i] = 1.0f / (0.2f + float(x) / kW + noise(rng));
       for (int c = 0; c < 3; ++c)
-        colour.data()[3 * i + c] =
+        color.data()[3 * i + c] =
             std::uint8_t(std::clamp(60 + 2 * x + 30 * c + jitter(rng), 0, 255));
     }
   }
   distance.data()[5] = 0.0f;
-  return {std::move(distance), std::move(colour)};
+  return {std::move(distance), std::move(color)};
 }
 
 std::vector<std::uint32_t> packed(const Rgb8Image& rgb) {
@@ -61,7 +61,8 @@ TEST_F(TemporalFilterTest, EqualsCpuAndStopsFlicker) {
   const TemporalOptions options;
   TemporalFilter filter(context(), kW, kH, options);
   TemporalState state;
-  gpu::Buffer distance(context(), kW * kH * 4), colour(context(), kW * kH * 4);
+  const vk::DeviceSize bytes = vk::DeviceSize(kW) * kH * 4;
+  gpu::Buffer distance(context(), bytes), color(context(), bytes);
   gpu::Sequence seq(context());
   std::vector<FloatImage> raw, filtered;
   double worst = 0;
@@ -69,13 +70,13 @@ TEST_F(TemporalFilterTest, EqualsCpuAndStopsFlicker) {
     auto [d, c] = noisy_frame(f, 0.02);
     if (f == 6) {  // something moves in depth in one column and in colour in another
       for (int y = 0; y < kH; ++y) d.data()[y * kW + 40] = 1.0f / 3.0f;
-      for (int y = 0; y < kH; ++y) c.data()[3 * (y * kW + 50)] = 255;
+      for (int y = 0; y < kH; ++y) c.data()[std::ptrdiff_t(3) * (y * kW + 50)] = 255;
     }
     raw.push_back(d.clone());
     distance.upload(d.data(), d.size() * 4);
-    colour.upload(std::span<const std::uint32_t>(packed(c)));
+    color.upload(std::span<const std::uint32_t>(packed(c)));
     seq.begin();
-    filter.record(seq, distance, colour);
+    filter.record(seq, distance, color);
     seq.submit_and_wait();
     FloatImage gpu(kW, kH, 1);
     distance.download(gpu.data(), gpu.size() * 4);

@@ -50,7 +50,7 @@ TEST(SyntheticRig, GroundTruthPanoramaAgreesWithEveryCamera) {
     const RigCamera& cam = rig.rig().cameras[c];
     const Rigid3d cam_from_rig = cam.rig_from_cam.inverse();
     long inside = 0, same_surface = 0;
-    std::vector<float> colour_error;
+    std::vector<float> color_error;
     for (int y = 0; y < h; y += 2) {
       for (int x = 0; x < w; x += 2) {
         const float inv = frame.panorama.inverse_distance(x, y);
@@ -71,11 +71,11 @@ TEST(SyntheticRig, GroundTruthPanoramaAgreesWithEveryCamera) {
         for (int k = 0; k < 3; ++k)
           err += std::abs(bilinear(frame.cameras[c].rgb, uv.x(), uv.y(), k) -
                           frame.panorama.rgb(x, y, k));
-        colour_error.push_back(err / 3);
+        color_error.push_back(err / 3);
       }
     }
     const double visible = double(same_surface) / double(inside);
-    const double median = percentile(colour_error, 0.5), p90 = percentile(colour_error, 0.9);
+    const double median = percentile(color_error, 0.5), p90 = percentile(color_error, 0.9);
     std::cout << "camera " << c << ": " << inside << " panorama points inside the lens, "
               << 100 * visible << " % on the same surface; colour error median " << median
               << ", 90th percentile " << p90 << " levels\n";

@@ -146,11 +146,11 @@ Row run(gpu::Context& context, const AccuracySet& set, const Variant& variant,
     for (const auto& im : frame.images) full.push_back(im.clone());
     const auto start = std::chrono::steady_clock::now();
     std::vector<Rgb8Image> matching = depth::matching_images(full, depth_options);
-    std::vector<Rgb8Image> colour = depth::reference_colour_images(full, set.rig, set.references);
-    if (photometry) photometry->correct(matching, colour);
+    std::vector<Rgb8Image> color = depth::reference_color_images(full, set.rig, set.references);
+    if (photometry) photometry->correct(matching, color);
     log.clear();
     context.set_command_log(&log);
-    const stitch::Panorama pano = gpu_frame.run(depth::pointers(matching), depth::pointers(colour));
+    const stitch::Panorama pano = gpu_frame.run(depth::pointers(matching), depth::pointers(color));
     context.set_command_log(nullptr);
     ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
                      .count());

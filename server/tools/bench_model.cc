@@ -146,7 +146,7 @@ void model_section(gpu::Context& context, depth::DepthOptions options, int resol
 
   // The frame as omnisweep-process runs it: one submission, depth staying on the GPU.
   const auto matching = depth::matching_images(images, options);
-  const auto colour = depth::reference_colour_images(images, full_rig, options.references);
+  const auto color = depth::reference_color_images(images, full_rig, options.references);
   // The second frame is recorded: the first also computes what is kept for a calibration and
   // pose (the inpainting directions), which a stream does once.
   pipeline::GpuFrame gpu_frame(context, estimator, stitcher);
@@ -154,7 +154,7 @@ void model_section(gpu::Context& context, depth::DepthOptions options, int resol
   for (int run = 0; run < 2; ++run) {
     log.clear();
     context.set_command_log(&log);
-    gpu_frame.run(depth::pointers(matching), depth::pointers(colour));
+    gpu_frame.run(depth::pointers(matching), depth::pointers(color));
     context.set_command_log(nullptr);
   }
 

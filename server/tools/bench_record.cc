@@ -21,11 +21,11 @@ void record_section(bool json) {
   frame.width(2048);
   frame.height(1024);
   frame.capture_time_ns().assign(4, 0);
-  std::vector<std::uint8_t> colour(255 * 1024), distance(597 * 1024);
-  for (auto& b : colour) b = std::uint8_t(random());
+  std::vector<std::uint8_t> color(std::size_t(255) * 1024), distance(std::size_t(597) * 1024);
+  for (auto& b : color) b = std::uint8_t(random());
   for (auto& b : distance) b = std::uint8_t(random());
   frame.color().codec(std::string(codec::kJpeg));
-  frame.color().data(colour);
+  frame.color().data(color);
   frame.distance().codec(std::string(codec::kQinv16Zstd));
   frame.distance().data(distance);
 

@@ -57,6 +57,7 @@ void ros2_section(gpu::Context& context, bool json) {
   }
   for (const Row& row : rows) {
     std::vector<Cost> costs;
+    costs.reserve(kRuns);
     std::size_t bytes = 0;
     for (int i = 0; i < kRuns; ++i) {
       costs.push_back(cost_of([&] {
@@ -95,6 +96,7 @@ void ros2_section(gpu::Context& context, bool json) {
   dds::StreamPublisher publisher(participant);
   ros2::RosPublisher ros(publisher.participant(), options);
   std::vector<Cost> idle;
+  idle.reserve(1000);
   for (int i = 0; i < 1000; ++i)
     idle.push_back(cost_of([&] {
       if (ros.wants_frames()) ros.publish_frame(frame);

@@ -51,8 +51,9 @@ int run(int argc, char** argv) {
       "on the GPU)."};
   std::string dataset_dir, output_dir, frames, device;
   depth::DepthOptions options;
-  std::vector<int> rgb_resolution, panorama = {2048, 1024};
-  std::vector<double> viewpoint;
+  tools::PanoramaFlags panorama_flags{.panorama = {2048, 1024}};
+  const std::vector<int>& rgb_resolution = panorama_flags.rgb_resolution;
+  const std::vector<int>& panorama = panorama_flags.panorama;
   bool evaluate = false, json = false;
   std::optional<stitch::TemporalOptions> temporal;
   app.add_option("--dataset", dataset_dir, "Dataset in the reference layout")->required();
@@ -62,17 +63,7 @@ int run(int argc, char** argv) {
   app.add_flag("--evaluate", evaluate,
                "Compare with gt/rgb_<frame>.png and gt/inv_distance_<frame>.exr");
   app.add_flag("--json", json, "One JSON object per frame, then one with \"summary\": true");
-  app.add_option("--rgb-resolution", rgb_resolution,
-                 "Width and height colour is sampled at (default: the images')")
-      ->expected(2)
-      ->check(CLI::Range(8, 16384));
-  app.add_option("--panorama-resolution", panorama, "Panorama width and height (2:1)")
-      ->expected(2)
-      ->check(CLI::Range(8, 16384));
-  app.add_option("--viewpoint", viewpoint,
-                 "Panorama centre x y z in the rig frame, metres (default: dataset.json's, else "
-                 "the mean of the references)")
-      ->expected(3);
+  tools::add_panorama_flags(app, panorama_flags);
   tools::add_depth_flags(app, options, device);
   tools::add_temporal_flags(app, temporal);
   CLI11_PARSE(app, argc, argv);
@@ -86,8 +77,8 @@ int run(int argc, char** argv) {
     options.min_distance = *hints.min_distance;
   if (hints.max_distance && app.count("--max-dist") == 0)
     options.max_distance = *hints.max_distance;
-  if (hints.viewpoint && viewpoint.empty())
-    viewpoint = {hints.viewpoint->x(), hints.viewpoint->y(), hints.viewpoint->z()};
+  std::optional<Eigen::Vector3d> viewpoint = panorama_flags.centre();
+  if (hints.viewpoint && !viewpoint) viewpoint = *hints.viewpoint;
   options.check(dataset.rig().num_cameras());
   if (evaluate && !dataset.has_ground_truth()) {
     throw std::runtime_error((fs::path(dataset_dir) / "gt").string() +
@@ -95,9 +86,9 @@ int run(int argc, char** argv) {
   }
   const Rig matching_rig = dataset.rig().resized(options.matching_width, options.matching_height);
   const RigCamera& first = dataset.rig().cameras[options.references[0]];
-  const Rig colour_rig = rgb_resolution.empty()
-                             ? dataset.rig()
-                             : dataset.rig().resized(rgb_resolution[0], rgb_resolution[1]);
+  const Rig color_rig = rgb_resolution.empty()
+                            ? dataset.rig()
+                            : dataset.rig().resized(rgb_resolution[0], rgb_resolution[1]);
   for (int r : options.references) {
     const RigCamera& cam = dataset.rig().cameras[r];
     if (rgb_resolution.empty() && (cam.width != first.width || cam.height != first.height)) {
@@ -112,15 +103,14 @@ int run(int argc, char** argv) {
                                        .viewpoint = {},
                                        .min_distance = options.min_distance,
                                        .max_distance = options.max_distance};
-  if (!viewpoint.empty())
-    stitch_options.viewpoint = Eigen::Vector3d(viewpoint[0], viewpoint[1], viewpoint[2]);
+  stitch_options.viewpoint = viewpoint;
   stitch_options.temporal = temporal;
-  stitch::Stitcher stitcher(context, matching_rig, colour_rig, options.references, masks,
+  stitch::Stitcher stitcher(context, matching_rig, color_rig, options.references, masks,
                             stitch_options);
   pipeline::GpuFrame gpu_frame(context, estimator, stitcher);
   std::optional<depth::PhotometricCorrector> photometry;
   if (options.correct_photometry)
-    photometry.emplace(matching_rig, masks, colour_rig, options.references);
+    photometry.emplace(matching_rig, masks, color_rig, options.references);
   fs::create_directories(output_dir);
   if (!json) {
     std::fprintf(stderr, "device: %s; GPU memory: depth %.1f MiB, stitching %.1f MiB\n",
@@ -144,16 +134,16 @@ int run(int argc, char** argv) {
         const auto start = Clock::now();
         std::vector<Rgb8Image> full = depth::rgb8_images(frame);
         std::vector<Rgb8Image> images = depth::matching_images(full, options);
-        std::vector<Rgb8Image> colour =
-            depth::reference_colour_images(full, colour_rig, options.references);
+        std::vector<Rgb8Image> color =
+            depth::reference_color_images(full, color_rig, options.references);
         double photometry_ms = 0;
         if (photometry) {
           const auto t = Clock::now();
-          photometry->correct(images, colour);
+          photometry->correct(images, color);
           photometry_ms = std::chrono::duration<double, std::milli>(Clock::now() - t).count();
         }
         // One submission from the images to the panorama: depth stays on the GPU.
-        stitch::Panorama pano = gpu_frame.run(depth::pointers(images), depth::pointers(colour));
+        stitch::Panorama pano = gpu_frame.run(depth::pointers(images), depth::pointers(color));
         // The correction's host time joins the GPU stages, as the stage "photometry".
         if (photometry) pano.stage_ms.insert(pano.stage_ms.begin(), {"photometry", photometry_ms});
         const double ms = std::chrono::duration<double, std::milli>(Clock::now() - start).count();

@@ -31,8 +31,8 @@ int run(int argc, char** argv) {
   pipeline::ServerOptions options;
   dds::ParticipantOptions dds_options;
   dds_options.name = "omnisweep-server";
-  std::vector<int> panorama = {options.panorama_width, options.panorama_height}, rgb_resolution;
-  std::vector<double> viewpoint;
+  tools::PanoramaFlags panorama_flags{
+      .panorama = {options.panorama_width, options.panorama_height}};
   bool light = false;
   app.add_option("--source", source_spec,
                  "synthetic (default), dataset:DIR, video:F0,F1,..., v4l2:/dev/videoN,... or "
@@ -49,16 +49,7 @@ int run(int argc, char** argv) {
                "Exit (code 1) when the source stalls or ends, instead of reporting and retrying");
   app.add_option("--fps", options.fps, "Capture rate cap, frames per second")
       ->check(CLI::Range(0.01, 1000.0));
-  app.add_option("--panorama-resolution", panorama, "Panorama width and height (2:1)")
-      ->expected(2)
-      ->check(CLI::Range(8, 16384));
-  app.add_option("--rgb-resolution", rgb_resolution,
-                 "Width and height colour is sampled at (default: the images')")
-      ->expected(2)
-      ->check(CLI::Range(8, 16384));
-  app.add_option("--viewpoint", viewpoint,
-                 "Panorama centre x y z in the rig frame, metres (default: mean of the references)")
-      ->expected(3);
+  tools::add_panorama_flags(app, panorama_flags);
   app.add_option("--jpeg-quality", options.jpeg_quality,
                  "Colour JPEG quality (the frame budget may lower it)")
       ->check(CLI::Range(1, 100));
@@ -100,11 +91,10 @@ int run(int argc, char** argv) {
       ->check(CLI::Range(0.0, 86400.0))
       ->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
   CLI11_PARSE(app, argc, argv);
-  options.panorama_width = panorama[0];
-  options.panorama_height = panorama[1];
-  if (!rgb_resolution.empty()) options.rgb_resolution = {rgb_resolution[0], rgb_resolution[1]};
-  if (!viewpoint.empty())
-    options.viewpoint = Eigen::Vector3d(viewpoint[0], viewpoint[1], viewpoint[2]);
+  options.panorama_width = panorama_flags.panorama[0];
+  options.panorama_height = panorama_flags.panorama[1];
+  if (const auto rgb = panorama_flags.rgb()) options.rgb_resolution = *rgb;
+  options.viewpoint = panorama_flags.centre();
   options.ros2 = tools::ros2_options(app, ros_flags, dds_options.topic_prefix);
   options.foxglove = tools::foxglove_options(app, foxglove_flags, options.ros2.has_value());
   if (light) {

@@ -12,13 +12,13 @@ namespace {
 // Drawn with OpenCV's primitives: no plotting library is among the project's dependencies, and
 // two polylines with axes need none.
 void draw_curve(cv::Mat& canvas, const std::vector<double>& x, const std::vector<double>& y,
-                const cv::Rect& area, double y_max, const cv::Scalar& colour) {
+                const cv::Rect& area, double y_max, const cv::Scalar& color) {
   std::vector<cv::Point> points;
   for (std::size_t i = 0; i < x.size(); ++i) {
     points.emplace_back(area.x + int(x[i] * area.width),
                         area.y + area.height - int(std::min(y[i] / y_max, 1.0) * area.height));
   }
-  cv::polylines(canvas, points, false, colour, 2, cv::LINE_AA);
+  cv::polylines(canvas, points, false, color, 2, cv::LINE_AA);
 }
 
 std::string format(const char* pattern, double value) {

@@ -1,13 +1,47 @@
 // Command-line flags shared by the programs that stitch panoramas (omnisweep-process,
-// omnisweep-server): the temporal filter.
+// omnisweep-server): the panorama's size, colour resolution and centre, and the temporal filter.
 #pragma once
 
 #include <CLI/CLI.hpp>
+#include <Eigen/Core>
 #include <optional>
+#include <utility>
+#include <vector>
 
 #include "server/stitch/temporal_filter.h"
 
 namespace omnisweep::tools {
+
+// --panorama-resolution W H, --rgb-resolution W H and --viewpoint X Y Z.
+struct PanoramaFlags {
+  std::vector<int> panorama;        // width, height
+  std::vector<int> rgb_resolution;  // empty: the images' own
+  std::vector<double> viewpoint;    // empty: dataset.json's, else the mean of the references
+
+  std::optional<std::pair<int, int>> rgb() const {
+    if (rgb_resolution.empty()) return std::nullopt;
+    return std::pair{rgb_resolution[0], rgb_resolution[1]};
+  }
+  std::optional<Eigen::Vector3d> centre() const {
+    if (viewpoint.empty()) return std::nullopt;
+    return Eigen::Vector3d(viewpoint[0], viewpoint[1], viewpoint[2]);
+  }
+};
+
+// The flags into `flags`; `flags.panorama` holds the default size when called.
+inline void add_panorama_flags(CLI::App& app, PanoramaFlags& flags) {
+  app.add_option("--panorama-resolution", flags.panorama, "Panorama width and height (2:1)")
+      ->expected(2)
+      ->check(CLI::Range(8, 16384));
+  app.add_option("--rgb-resolution", flags.rgb_resolution,
+                 "Width and height colour is sampled at (default: the images')")
+      ->expected(2)
+      ->check(CLI::Range(8, 16384));
+  app.add_option("--viewpoint", flags.viewpoint,
+                 "Panorama centre x y z in the rig frame, metres (default: dataset.json's, else "
+                 "the mean of the references)")
+      ->expected(3);
+}
 
 // --temporal (the filter with its defaults) and --temporal-frames N, into `temporal`.
 inline void add_temporal_flags(CLI::App& app, std::optional<stitch::TemporalOptions>& temporal) {

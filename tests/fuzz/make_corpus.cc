@@ -47,7 +47,7 @@ FloatImage distance_map(int w, int h, int frame) {
   return d;
 }
 
-Rgb8Image colour_image(int w, int h, int frame) {
+Rgb8Image color_image(int w, int h, int frame) {
   Rgb8Image rgb(w, h, 3);
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x)
@@ -64,7 +64,7 @@ msg::RgbdFrame frame_message(int w, int h, int frame) {
   m.height(std::uint32_t(h));
   m.capture_time_ns({1, 2, 3, 4});
   m.color(wire::make_payload(
-      codec::kJpeg, codec::make_color_codec(codec::kJpeg)->encode(colour_image(w, h, frame))));
+      codec::kJpeg, codec::make_color_codec(codec::kJpeg)->encode(color_image(w, h, frame))));
   m.distance(wire::make_payload(
       codec::kQinv16Zstd,
       codec::make_distance_codec(codec::kQinv16Zstd)->encode(distance_map(w, h, frame), params)));
@@ -94,7 +94,7 @@ int main(int argc, char** argv) {
 
     std::vector<std::uint8_t> jpeg = header(1, 48, 32);
     const codec::Bytes jpeg_payload =
-        codec::make_color_codec(codec::kJpeg)->encode(colour_image(48, 32, 0));
+        codec::make_color_codec(codec::kJpeg)->encode(color_image(48, 32, 0));
     jpeg.insert(jpeg.end(), jpeg_payload.begin(), jpeg_payload.end());
     write_file(root / "frame_decoder/jpeg", jpeg);
 

@@ -30,7 +30,7 @@ fs::path from_env(const char* name, const char* fallback) {
 fs::path shared_dir() { return from_env("OMNISWEEP_SHARED_DIR", OMNISWEEP_DEFAULT_SHARED_DIR); }
 
 fs::path kaist_rig_dir() {
-  const fs::path dir = shared_dir() / "data" / "kaist-rig";
+  fs::path dir = shared_dir() / "data" / "kaist-rig";
   if (!fs::exists(dir / "calibration.json")) {
     throw std::runtime_error(dir.string() +
                              ": the kaist-rig data is missing; the suite expects ../shared beside "

@@ -9,11 +9,7 @@
 
 namespace omnisweep::client {
 
-double RgbdFrame::latency_ms() const {
-  if (capture_time_ns.empty()) return 0;
-  const std::uint64_t captured = *std::min_element(capture_time_ns.begin(), capture_time_ns.end());
-  return (double(decoded_time_ns) - double(captured)) * 1e-6;
-}
+double RgbdFrame::latency_ms() const { return wire::latency_ms(capture_time_ns, decoded_time_ns); }
 
 const char* to_string(ConnectionState state) {
   switch (state) {
@@ -48,7 +44,7 @@ StreamInfo stream_info_from(const msg::StreamDescription& d) {
   info.panorama_width = int(d.panorama_width());
   info.panorama_height = int(d.panorama_height());
   info.viewpoint = {d.viewpoint().x(), d.viewpoint().y(), d.viewpoint().z()};
-  info.colour_codec = d.color_codec();
+  info.color_codec = d.color_codec();
   info.distance_codec = d.distance_codec();
   info.distance_params = wire::from_message(d.distance_params());
   info.target_fps = d.target_fps();
@@ -129,15 +125,13 @@ void RgbdSubscriber::on_frame(const msg::RgbdFrame& m) {
     const std::lock_guard lock(mutex_);
     ++stats_.frames_received;
     stats_.bytes_received += bytes;
-    if (last_sequence_ && m.sequence_number() > *last_sequence_ + 1)
-      stats_.frames_lost += m.sequence_number() - *last_sequence_ - 1;
-    last_sequence_ = m.sequence_number();
+    stats_.frames_lost += gaps_.see(m.sequence_number());
     last_frame_time_ = std::chrono::steady_clock::now();
   }
   auto frame = std::make_shared<RgbdFrame>();
   try {
     wire::DecodedFrame decoded = wire::decode_frame(m);
-    frame->colour = std::move(decoded.rgb);
+    frame->color = std::move(decoded.rgb);
     frame->distance = std::move(decoded.distance);
     if (options_.confidence) frame->confidence = take_confidence(m);
   } catch (const std::exception& e) {
@@ -154,7 +148,7 @@ void RgbdSubscriber::on_frame(const msg::RgbdFrame& m) {
   frame->processing_end_ns = m.processing_end_ns();
   frame->publish_time_ns = m.publish_time_ns();
   frame->receive_time_ns = received;
-  frame->colour_bytes = m.color().data().size();
+  frame->color_bytes = m.color().data().size();
   frame->distance_bytes = m.distance().data().size();
   frame->decoded_time_ns = wall_clock_ns();
   {
@@ -190,21 +184,31 @@ std::optional<msg::ServerStatus> RgbdSubscriber::status() const { return subscri
 
 int RgbdSubscriber::matched_servers() const { return subscriber_->matched_servers(); }
 
-ConnectionState RgbdSubscriber::state() const {
-  const std::lock_guard lock(mutex_);
-  const auto now = std::chrono::steady_clock::now();
-  const std::chrono::duration<double> since = now - last_frame_time_,
-                                      since_status = now - last_status_time_;
-  if (stats_.frames_received > 0) {
-    double allowed = options_.stall_after_s;
+ConnectionState connection_state(const ConnectionInputs& in, double stall_after_s) {
+  if (in.frames_received > 0) {
+    double allowed = stall_after_s;
     // A running server still reporting (status comes once a second) whose slowest stage takes
     // longer than that: a frame is due within about one frame time (the stages overlap).
-    if (server_running_ && since_status.count() < options_.stall_after_s)
-      allowed = std::max(allowed, 2.0 * server_frame_s_ + 1.0);
-    if (since.count() < allowed) return ConnectionState::kReceiving;
+    if (in.server_running && in.since_status_s < stall_after_s)
+      allowed = std::max(allowed, 2.0 * in.server_frame_s + 1.0);
+    if (in.since_frame_s < allowed) return ConnectionState::kReceiving;
   }
-  if (subscriber_->matched_servers() == 0) return ConnectionState::kNoServer;
-  return stats_.frames_received > 0 ? ConnectionState::kStalled : ConnectionState::kWaiting;
+  if (in.matched_servers == 0) return ConnectionState::kNoServer;
+  return in.frames_received > 0 ? ConnectionState::kStalled : ConnectionState::kWaiting;
+}
+
+ConnectionState RgbdSubscriber::state() const {
+  const int matched = subscriber_->matched_servers();
+  const std::lock_guard lock(mutex_);
+  const auto now = std::chrono::steady_clock::now();
+  return connection_state(
+      {.frames_received = stats_.frames_received,
+       .since_frame_s = std::chrono::duration<double>(now - last_frame_time_).count(),
+       .since_status_s = std::chrono::duration<double>(now - last_status_time_).count(),
+       .server_running = server_running_,
+       .server_frame_s = server_frame_s_,
+       .matched_servers = matched},
+      options_.stall_after_s);
 }
 
 SubscriberStats RgbdSubscriber::stats() const {

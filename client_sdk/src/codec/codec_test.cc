@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <random>
 #include <utility>
 #include <vector>
@@ -162,6 +163,11 @@ TEST(DistanceCodec, LevelsAreWhatDecodeExpands) {
       }
     EXPECT_EQ(levels(3, 3) * (ds == 1), 0);  // the hole, where it is not averaged away
     EXPECT_THROW(codec->decode_levels(bytes, 100, 37, params), CodecError);
+    // Levels to metres without a second decode: bit-identical to decode().
+    const FloatImage from_levels = distance_from_levels(levels, 101, 37, params);
+    ASSERT_EQ(from_levels.size(), metres.size());
+    EXPECT_EQ(std::memcmp(from_levels.data(), metres.data(), metres.size() * sizeof(float)), 0);
+    EXPECT_THROW(distance_from_levels(levels, 100 + 4 * ds, 37, params), CodecError);
   }
 }
 

@@ -187,7 +187,7 @@ OMNISWEEP_AVX2_CLONES void pair_contexts(const std::uint16_t* __restrict up, int
   }
   k[0] = kEdgeContext;
   // Pair j covers samples 2j, 2j + 1: e[2j] is |b0 - c|, e[2j + 2] is |d - b1|.
-  for (int j = 1; 2 * j + 2 < w; ++j) {
+  for (std::ptrdiff_t j = 1; 2 * j + 2 < w; ++j) {
     const float s = float(e[2 * j] + e[2 * j + 1] + e[2 * j + 2]);
     const std::int32_t exponent = (std::bit_cast<std::int32_t>(s) >> 23) - 126;
     k[j] = std::uint8_t(std::min(std::max(exponent, 0), kContexts - 1));
@@ -210,7 +210,7 @@ OMNISWEEP_AVX2_CLONES void row_residuals(const std::uint16_t* __restrict row,
   } else {
     for (int x = 1; x < w; ++x) z[x] = zigzag(std::uint16_t(row[x] - row[x - 1]));
   }
-  for (int j = 0; j < w / 2; ++j) {
+  for (std::ptrdiff_t j = 0; j < w / 2; ++j) {
     const std::uint32_t z0 = z[2 * j], z1 = z[2 * j + 1];
     code[j] =
         ((z0 < kPairBase) & (z1 < kPairBase)) ? std::uint8_t(z0 * kPairBase + z1) : kPairEscape;
@@ -260,7 +260,7 @@ void residual_streams(const FloatImage& distance, const DistanceParams& params, 
     const std::uint16_t* __restrict up = y == band.y0 ? nullptr : last_row;
     pair_contexts(up, w, scratch.differences.data(), context);
     row_residuals(row, up, w, z, code);
-    for (int j = 0; j < pairs; ++j) {
+    for (std::ptrdiff_t j = 0; j < pairs; ++j) {
       std::uint8_t*& stream = out[context[j]];
       if (context[j] < kPairedContexts) {
         *stream++ = code[j];
@@ -326,7 +326,7 @@ void reconstruct(std::span<const std::uint8_t> content,
     const std::uint16_t* __restrict up = y == band.y0 ? nullptr : row - w;
     // The row's residuals, from its contexts alone...
     pair_contexts(up, w, scratch.differences.data(), context);
-    for (int j = 0; j < pairs; ++j) {
+    for (std::ptrdiff_t j = 0; j < pairs; ++j) {
       const int k = context[j];
       std::uint16_t z0 = 0, z1 = 0;
       if (k < kPairedContexts) {
@@ -412,7 +412,7 @@ class QuantisedInverseDistanceCodec final : public DistanceCodec {
       const BandScratch& band = bands_[i];
       std::uint8_t* entry = out.data() + kFixedHeader + kBandEntry * i;
       put_u32(entry, std::uint32_t(band.frame.size()));
-      for (int k = 0; k < kContexts; ++k) put_u32(entry + 4 + 4 * k, band.lengths[k]);
+      for (std::size_t k = 0; k < kContexts; ++k) put_u32(entry + 4 + 4 * k, band.lengths[k]);
       std::memcpy(out.data() + at, band.frame.data(), band.frame.size());
       at += band.frame.size();
     }
@@ -421,11 +421,8 @@ class QuantisedInverseDistanceCodec final : public DistanceCodec {
 
   FloatImage decode(std::span<const std::uint8_t> payload, int width, int height,
                     const DistanceParams& params) const override {
-    const double lo = 1.0 / params.max_distance, hi = 1.0 / params.min_distance;
-    const double step = (hi - lo) / double(params.levels - 1);
-    std::vector<float> metres(params.levels + 1, 0.0f);
-    for (std::uint32_t level = 1; level <= params.levels; ++level)
-      metres[level] = float(1.0 / (lo + (level - 1) * step));
+    params.check();
+    const std::vector<float> metres = level_metres(params);
     FloatImage out;
     const int ds = int(params.downsample);
     const int w = (width + ds - 1) / ds;
@@ -505,7 +502,7 @@ class QuantisedInverseDistanceCodec final : public DistanceCodec {
         throw CodecError(error_prefix() + "payload is truncated (band " + std::to_string(i) + ")");
       frames.push_back(payload.subspan(at, size));
       at += size;
-      for (int k = 0; k < kContexts; ++k) lengths[i][k] = get_u32(entry + 4 + 4 * k);
+      for (std::size_t k = 0; k < kContexts; ++k) lengths[i][k] = get_u32(entry + 4 + 4 * k);
     }
     if (at != payload.size())
       throw CodecError(error_prefix() + "corrupt payload: " + std::to_string(payload.size() - at) +
@@ -550,6 +547,41 @@ class QuantisedInverseDistanceCodec final : public DistanceCodec {
 
 std::unique_ptr<DistanceCodec> make_qinv16_zstd_codec() {
   return std::make_unique<QuantisedInverseDistanceCodec>();
+}
+
+std::vector<float> level_metres(const DistanceParams& params) {
+  const double lo = 1.0 / params.max_distance, hi = 1.0 / params.min_distance;
+  const double step = (hi - lo) / double(params.levels - 1);
+  std::vector<float> metres(params.levels + 1, 0.0f);
+  for (std::uint32_t level = 1; level <= params.levels; ++level)
+    metres[level] = float(1.0 / (lo + (level - 1) * step));
+  return metres;
+}
+
+FloatImage distance_from_levels(const Image<std::uint16_t>& levels, int width, int height,
+                                const DistanceParams& params) {
+  params.check();
+  const int ds = int(params.downsample);
+  if (width <= 0 || height <= 0 || levels.width() != (width + ds - 1) / ds ||
+      levels.height() != (height + ds - 1) / ds || levels.channels() != 1) {
+    throw CodecError("distance_from_levels: levels of " + std::to_string(levels.width()) + "x" +
+                     std::to_string(levels.height()) + " do not store a " + std::to_string(width) +
+                     "x" + std::to_string(height) + " map at 1/" + std::to_string(ds));
+  }
+  const std::vector<float> metres = level_metres(params);
+  FloatImage out(width, height, 1);
+  for (int y = 0; y < height; ++y) {
+    const std::uint16_t* row = levels.data() + std::size_t(y / ds) * std::size_t(levels.width());
+    float* dst = out.data() + std::size_t(y) * std::size_t(width);
+    for (int x = 0; x < width; ++x) {
+      const std::uint16_t level = row[x / ds];
+      if (level > params.levels)
+        throw CodecError("distance_from_levels: level " + std::to_string(level) + " over " +
+                         std::to_string(params.levels));
+      dst[x] = metres[level];
+    }
+  }
+  return out;
 }
 
 }  // namespace omnisweep::codec

@@ -125,17 +125,26 @@ void WebSocketServer::start() {
 
 WebSocketServer::~WebSocketServer() {
   Impl& s = *impl_;
-  websocketpp::lib::error_code ec;
-  s.endpoint.stop_listening(ec);
-  std::vector<Handle> open;
-  {
-    const std::lock_guard<std::mutex> lock(s.mutex);
-    for (const auto& [id, h] : s.clients) open.push_back(h);
+  // Nothing may leave a destructor: a client that cannot be closed politely (out of memory, a
+  // lock error) is dropped by stop() below all the same.
+  try {
+    websocketpp::lib::error_code ec;
+    s.endpoint.stop_listening(ec);
+    std::vector<Handle> open;
+    {
+      const std::lock_guard<std::mutex> lock(s.mutex);
+      for (const auto& [id, h] : s.clients) open.push_back(h);
+    }
+    for (const Handle& h : open)
+      s.endpoint.close(h, websocketpp::close::status::going_away, "server stopping", ec);
+  } catch (...) {
   }
-  for (const Handle& h : open)
-    s.endpoint.close(h, websocketpp::close::status::going_away, "server stopping", ec);
-  s.endpoint.stop();
-  if (s.thread.joinable()) s.thread.join();
+  try {
+    s.endpoint.stop();
+    if (s.thread.joinable()) s.thread.join();
+  } catch (...) {
+    // join() throws only for a thread that is not joinable or is this one: neither can be.
+  }
 }
 
 int WebSocketServer::port() const { return impl_->port; }

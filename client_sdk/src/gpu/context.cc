@@ -268,7 +268,12 @@ Context::Context(const ContextOptions& options)
 }
 
 Context::~Context() {
-  if (*device_) device_.waitIdle();
+  // A lost device (vk::DeviceLostError) has nothing left to wait for, and a destructor must not
+  // throw: the members are destroyed either way.
+  try {
+    if (*device_) device_.waitIdle();
+  } catch (...) {
+  }
 }
 
 std::vector<std::string> Context::take_validation_messages() {

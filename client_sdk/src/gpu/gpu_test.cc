@@ -158,7 +158,7 @@ TEST_P(GpuMemoryPaths, TransfersAndKernelsWorkOnEveryFallback) {
   EXPECT_EQ(out[99], 3.0f);
   EXPECT_EQ(out[100], 25.0f);
 
-  std::vector<std::uint32_t> texels(37 * 11), back(texels.size());
+  std::vector<std::uint32_t> texels(std::size_t(37) * 11), back(texels.size());
   for (std::size_t i = 0; i < texels.size(); ++i) texels[i] = std::uint32_t(i * 2654435761u);
   Image image(context, 37, 11, ImageFormat::kRgba8);
   image.upload(texels.data(), texels.size() * 4);
@@ -216,7 +216,7 @@ TEST_F(ValidatedGpuTest, KernelWithPushAndSpecializationConstants) {
 TEST_F(ValidatedGpuTest, CommandLogCountsTheRecordedStream) {
   CommandLog log;
   context().set_command_log(&log);
-  Buffer a(context(), 1000 * 4);
+  Buffer a(context(), vk::DeviceSize(1000) * 4);
   Image image(context(), 13, 7, ImageFormat::kRgba8);
   std::vector<float> values(1000, 1.0f);
   a.upload(std::span<const float>(values));  // a transfer (a round trip where it is staged)
@@ -265,12 +265,12 @@ TEST_F(ValidatedGpuTest, CommandLogCountsTheRecordedStream) {
 
 TEST_F(ValidatedGpuTest, StorageImagesRoundTripAndBindInKernels) {
   const int w = 13, h = 7;
-  std::vector<std::uint32_t> texels(w * h);
+  std::vector<std::uint32_t> texels(std::size_t(w) * h);
   for (int i = 0; i < w * h; ++i)
     texels[i] = std::uint32_t(i) | (std::uint32_t(2 * i) << 8) | (40u << 16) | (255u << 24);
   Image image(context(), w, h, ImageFormat::kRgba8);
   image.upload(texels.data(), texels.size() * 4);
-  std::vector<std::uint32_t> back(w * h);
+  std::vector<std::uint32_t> back(std::size_t(w) * h);
   image.download(back.data(), back.size() * 4);
   EXPECT_EQ(back, texels);
   EXPECT_THROW(image.upload(texels.data(), 12), GpuError);

@@ -12,7 +12,7 @@ vk::Format vk_format(ImageFormat format) {
   return format == ImageFormat::kRgba8 ? vk::Format::eR8G8B8A8Unorm : vk::Format::eR32Sfloat;
 }
 
-const vk::ImageSubresourceRange kColour(vk::ImageAspectFlagBits::eColor, 0, 1, 0, 1);
+const vk::ImageSubresourceRange kColor(vk::ImageAspectFlagBits::eColor, 0, 1, 0, 1);
 
 // Moves `image` between GENERAL (its resting layout) and a transfer layout around a copy.
 void transition(const vk::raii::CommandBuffer& cmd, vk::Image image, vk::ImageLayout from,
@@ -20,7 +20,7 @@ void transition(const vk::raii::CommandBuffer& cmd, vk::Image image, vk::ImageLa
   const auto access = vk::AccessFlagBits::eShaderRead | vk::AccessFlagBits::eShaderWrite |
                       vk::AccessFlagBits::eTransferRead | vk::AccessFlagBits::eTransferWrite;
   const vk::ImageMemoryBarrier barrier(access, access, from, to, VK_QUEUE_FAMILY_IGNORED,
-                                       VK_QUEUE_FAMILY_IGNORED, image, kColour);
+                                       VK_QUEUE_FAMILY_IGNORED, image, kColor);
   const auto stages =
       vk::PipelineStageFlagBits::eComputeShader | vk::PipelineStageFlagBits::eTransfer;
   cmd.pipelineBarrier(stages, stages, {}, nullptr, nullptr, barrier);
@@ -52,7 +52,7 @@ Image::Image(Context& context, int width, int height, ImageFormat format)
     image_.bindMemory(*memory_, 0);
     view_ = vk::raii::ImageView(context.device(),
                                 vk::ImageViewCreateInfo({}, *image_, vk::ImageViewType::e2D,
-                                                        vk_format(format), {}, kColour));
+                                                        vk_format(format), {}, kColor));
   } catch (const vk::SystemError& e) {
     throw GpuError("cannot create a " + std::to_string(width) + "x" + std::to_string(height) +
                    " GPU image on " + context.info().name + ": " + e.what());
@@ -62,7 +62,7 @@ Image::Image(Context& context, int width, int height, ImageFormat format)
     const vk::ImageMemoryBarrier barrier(
         {}, vk::AccessFlagBits::eShaderRead | vk::AccessFlagBits::eShaderWrite,
         vk::ImageLayout::eUndefined, vk::ImageLayout::eGeneral, VK_QUEUE_FAMILY_IGNORED,
-        VK_QUEUE_FAMILY_IGNORED, *image_, kColour);
+        VK_QUEUE_FAMILY_IGNORED, *image_, kColor);
     cmd.pipelineBarrier(vk::PipelineStageFlagBits::eTopOfPipe,
                         vk::PipelineStageFlagBits::eComputeShader, {}, nullptr, nullptr, barrier);
   });

@@ -45,6 +45,7 @@ std::uint64_t pixels(const GpuCamera& c) { return std::uint64_t(c.width) * c.hei
 // The model every layer's source (or target) has, or kAny.
 GpuModel layers_model(const std::vector<WarpLayer>& layers, bool target) {
   std::vector<GpuCamera> cameras;
+  cameras.reserve(layers.size());
   for (const WarpLayer& l : layers) cameras.push_back(target ? l.target : l.source);
   return common_model(cameras);
 }
@@ -66,8 +67,7 @@ gpu::Kernel warp_kernel(const gpu::Context& context, const std::vector<WarpLayer
 gpu::Kernel directions_kernel(const gpu::Context& context, const std::vector<WarpLayer>& layers) {
   return camera_kernel(context, gpu::Shader::kInpaintDirections, {camera_binding(), 1}, 8, layers);
 }
-gpu::Kernel sample_colour_kernel(const gpu::Context& context,
-                                 const std::vector<WarpLayer>& layers) {
+gpu::Kernel sample_color_kernel(const gpu::Context& context, const std::vector<WarpLayer>& layers) {
   return camera_kernel(context, gpu::Shader::kSampleViewColor,
                        {camera_binding(), gpu::BindingSlot::texels(), gpu::BindingSlot::texels(),
                         gpu::BindingSlot::texels(), 1},
@@ -76,7 +76,7 @@ gpu::Kernel sample_colour_kernel(const gpu::Context& context,
 
 std::vector<WarpLayer> checked(std::vector<WarpLayer> layers, const WarpOptions& options) {
   options.check();
-  const bool colour = options.colour;
+  const bool color = options.color;
   if (layers.empty()) throw std::invalid_argument("forward warp: no layers");
   for (const WarpLayer& l : layers) {
     if (l.source.width == 0 || l.target.width == 0)
@@ -86,7 +86,7 @@ std::vector<WarpLayer> checked(std::vector<WarpLayer> layers, const WarpOptions&
       throw std::invalid_argument("forward warp: layers must share one source and one target size");
     }
   }
-  if (colour && layers.size() > 1)
+  if (color && layers.size() > 1)
     throw std::invalid_argument("forward warp: colour needs a warper of one layer");
   check_camera_records(2 * layers.size());
   return layers;
@@ -125,7 +125,7 @@ ForwardWarper::ForwardWarper(gpu::Context& context, std::vector<WarpLayer> layer
       directions_(context, layers_.size() * pixels(target()) * 16),
       buffers_{gpu::Buffer(context, layers_.size() * pixels(target()) * 4),
                gpu::Buffer(context, layers_.size() * pixels(target()) * 4)},
-      filled_(context, kMaxPasses * 4),
+      filled_(context, vk::DeviceSize(kMaxPasses) * 4),
       tile_(inpaint_tile(context)),
       tile_status_(context, std::uint64_t((target().width + tile_ - 1) / tile_) *
                                 ((target().height + tile_ - 1) / tile_) * layers_.size() * 2 * 4),
@@ -140,11 +140,11 @@ ForwardWarper::ForwardWarper(gpu::Context& context, std::vector<WarpLayer> layer
         "forward warp: need 0 < min distance < max distance, inpaint passes in [0, 1024], max "
         "splat >= 1 and 0 <= occlusion tolerance < 1");
   }
-  if (options.colour) {
-    colour_buffers_.emplace_back(context, pixels(target()) * 4);
-    colour_buffers_.emplace_back(context, pixels(target()) * 4);
-    sample_colour_.emplace(sample_colour_kernel(context, layers_));
-    inpaint_colour_.emplace(context, gpu::Shader::kDirectionalInpaintColor, inpaint_layout(tile_));
+  if (options.color) {
+    color_buffers_.emplace_back(context, pixels(target()) * 4);
+    color_buffers_.emplace_back(context, pixels(target()) * 4);
+    sample_color_.emplace(sample_color_kernel(context, layers_));
+    inpaint_color_.emplace(context, gpu::Shader::kDirectionalInpaintColor, inpaint_layout(tile_));
   }
   upload_cameras();
 }
@@ -169,7 +169,7 @@ void ForwardWarper::set_target(const GpuCamera& target) {
   if (recompile) {  // the kernels were compiled for the other model
     warp_ = warp_kernel(*context_, layers_);
     directions_kernel_ = directions_kernel(*context_, layers_);
-    if (sample_colour_) sample_colour_.emplace(sample_colour_kernel(*context_, layers_));
+    if (sample_color_) sample_color_.emplace(sample_color_kernel(*context_, layers_));
   }
   upload_cameras();
 }
@@ -255,33 +255,33 @@ int ForwardWarper::inpaint_until_filled(gpu::Sequence& seq, int max_passes, int 
   return run_until_filled(seq, inpaint_, buffers_, max_passes, batch, gpu_ms, &result_);
 }
 
-void ForwardWarper::record_colour_sample(gpu::Sequence& seq, const gpu::Buffer& distance,
-                                         const gpu::Buffer& source_colour) {
-  if (!options_.colour) throw std::logic_error("forward warp: colour needs WarpOptions::colour");
-  if (source_colour.size() < pixels(source()) * 4 || distance.size() < pixels(source()) * 4)
+void ForwardWarper::record_color_sample(gpu::Sequence& seq, const gpu::Buffer& distance,
+                                        const gpu::Buffer& source_color) {
+  if (!options_.color) throw std::logic_error("forward warp: colour needs WarpOptions::colour");
+  if (source_color.size() < pixels(source()) * 4 || distance.size() < pixels(source()) * 4)
     throw std::invalid_argument("forward warp: a source buffer holds fewer than its pixels");
   const float tolerance = float(options_.occlusion_tolerance);
-  seq.dispatch(*sample_colour_,
+  seq.dispatch(*sample_color_,
                {cameras_, gpu::Texels(result(), gpu::TexelFormat::kR32Uint),
                 gpu::Texels(distance, gpu::TexelFormat::kR32Float),
-                gpu::Texels(source_colour, gpu::TexelFormat::kR32Uint), colour_buffers_[0]},
-               tolerance, sample_colour_->groups_for(target().width, target().height));
+                gpu::Texels(source_color, gpu::TexelFormat::kR32Uint), color_buffers_[0]},
+               tolerance, sample_color_->groups_for(target().width, target().height));
   seq.barrier();
-  colour_result_ = 0;
+  color_result_ = 0;
 }
 
-void ForwardWarper::record_colour(gpu::Sequence& seq, const gpu::Buffer& distance,
-                                  const gpu::Buffer& source_colour) {
-  record_colour_sample(seq, distance, source_colour);
-  record_inpaint(seq, *inpaint_colour_, colour_buffers_.data(), 0, options_.inpaint_passes,
-                 &colour_result_);
+void ForwardWarper::record_color(gpu::Sequence& seq, const gpu::Buffer& distance,
+                                 const gpu::Buffer& source_color) {
+  record_color_sample(seq, distance, source_color);
+  record_inpaint(seq, *inpaint_color_, color_buffers_.data(), 0, options_.inpaint_passes,
+                 &color_result_);
 }
 
-int ForwardWarper::inpaint_colour_until_filled(gpu::Sequence& seq, int max_passes, int batch,
-                                               double* gpu_ms) {
-  if (!options_.colour) throw std::logic_error("forward warp: colour needs WarpOptions::colour");
-  return run_until_filled(seq, *inpaint_colour_, colour_buffers_.data(), max_passes, batch, gpu_ms,
-                          &colour_result_);
+int ForwardWarper::inpaint_color_until_filled(gpu::Sequence& seq, int max_passes, int batch,
+                                              double* gpu_ms) {
+  if (!options_.color) throw std::logic_error("forward warp: colour needs WarpOptions::colour");
+  return run_until_filled(seq, *inpaint_color_, color_buffers_.data(), max_passes, batch, gpu_ms,
+                          &color_result_);
 }
 
 const gpu::Buffer& ForwardWarper::result() const { return buffers_[result_]; }
@@ -298,11 +298,10 @@ FloatImage ForwardWarper::download(int layer) const {
   return out;
 }
 
-Rgb8Image ForwardWarper::download_colour() const {
-  if (!options_.colour)
+Rgb8Image ForwardWarper::download_color() const {
+  if (!options_.color)
     throw std::logic_error("forward warp: download_colour needs WarpOptions::colour");
-  const std::vector<std::uint32_t> packed =
-      colour_buffers_[colour_result_].download<std::uint32_t>();
+  const std::vector<std::uint32_t> packed = color_buffers_[color_result_].download<std::uint32_t>();
   Rgb8Image out(int(target().width), int(target().height), 3, 0);
   std::uint8_t* rgb = out.data();
   for (std::size_t p = 0; p < packed.size(); ++p) {

@@ -35,7 +35,7 @@ Eigen::Vector3d pixel_ray(int u, int v) {
 
 // The source camera's distance map of the scene, on the GPU.
 gpu::Buffer source_distance(gpu::Context& context) {
-  std::vector<float> distance(kSize * kSize);
+  std::vector<float> distance(std::size_t(kSize) * kSize);
   bool near;
   for (int v = 0; v < kSize; ++v)
     for (int u = 0; u < kSize; ++u)
@@ -120,7 +120,7 @@ TEST_F(ForwardWarpTest, EquirectangularTargetWrapsAround) {
   const CameraModel<double> pinhole = PinholeCamera<double>({kFocal, kFocal, kCentre, kCentre});
   const GpuCamera source = pack_camera(pinhole, kSize, kSize, Rigid3d());
   const GpuCamera target = pack_equirectangular(256, 128, Rigid3d());
-  std::vector<float> distance(kSize * kSize, 2.0f);
+  std::vector<float> distance(std::size_t(kSize) * kSize, 2.0f);
   gpu::Buffer distance_buffer(context(), distance.size() * 4);
   distance_buffer.upload(std::span<const float>(distance));
   ForwardWarper warper(context(), source, target, {.inpaint_passes = 0});
@@ -319,10 +319,10 @@ TEST_F(ForwardWarpTest, LayersWarpLikeSeparateWarpers) {
 
   layers[1].target.width = kSize / 2;
   EXPECT_THROW(ForwardWarper(context(), layers, options), std::invalid_argument);
-  WarpOptions colour = options;
-  colour.colour = true;
+  WarpOptions color = options;
+  color.color = true;
   layers[1].target.width = kSize;
-  EXPECT_THROW(ForwardWarper(context(), layers, colour), std::invalid_argument);
+  EXPECT_THROW(ForwardWarper(context(), layers, color), std::invalid_argument);
 }
 
 }  // namespace

@@ -70,10 +70,10 @@ Reprojector::Reprojector(gpu::Context& context, const ReprojectorOptions& option
   options_.check();
 }
 
-void Reprojector::set_panorama(const Rgb8Image& colour, const FloatImage& distance,
+void Reprojector::set_panorama(const Rgb8Image& color, const FloatImage& distance,
                                const Eigen::Vector3d& viewpoint, const FloatImage& confidence) {
   if (confidence.empty() || options_.min_confidence <= 0) {
-    set_panorama(colour, distance, viewpoint);
+    set_panorama(color, distance, viewpoint);
     return;
   }
   if (confidence.width() != distance.width() || confidence.height() != distance.height() ||
@@ -87,31 +87,31 @@ void Reprojector::set_panorama(const Rgb8Image& colour, const FloatImage& distan
   for (std::size_t i = 0; i < trusted.size(); ++i) {
     if (!(confidence.data()[i] >= options_.min_confidence)) trusted.data()[i] = 0.0f;
   }
-  set_panorama(colour, trusted, viewpoint);
+  set_panorama(color, trusted, viewpoint);
 }
 
-void Reprojector::set_panorama(const Rgb8Image& colour, const FloatImage& distance,
+void Reprojector::set_panorama(const Rgb8Image& color, const FloatImage& distance,
                                const Eigen::Vector3d& viewpoint) {
-  if (colour.width() != distance.width() || colour.height() != distance.height() ||
-      colour.channels() != 3 || distance.channels() != 1 || colour.width() != 2 * colour.height() ||
-      colour.height() <= 0) {
+  if (color.width() != distance.width() || color.height() != distance.height() ||
+      color.channels() != 3 || distance.channels() != 1 || color.width() != 2 * color.height() ||
+      color.height() <= 0) {
     throw std::invalid_argument(
         "reprojector: the panorama needs RGB colour and one-channel distance of the same 2:1 size, "
         "got " +
-        std::to_string(colour.width()) + "x" + std::to_string(colour.height()) + " and " +
+        std::to_string(color.width()) + "x" + std::to_string(color.height()) + " and " +
         std::to_string(distance.width()) + "x" + std::to_string(distance.height()));
   }
-  const GpuCamera source = pack_equirectangular(colour.width(), colour.height(), Rigid3d());
+  const GpuCamera source = pack_equirectangular(color.width(), color.height(), Rigid3d());
   if (source.width != source_.width || source.height != source_.height) {
     warpers_.clear();
-    const std::size_t bytes = colour.size() / 3 * 4;
+    const std::size_t bytes = color.size() / 3 * 4;
     distance_.emplace(*context_, bytes);
-    colour_.emplace(*context_, bytes);
+    color_.emplace(*context_, bytes);
   }
   source_ = source;
-  std::vector<std::uint32_t> packed(colour.size() / 3);
-  pack_rgba8(colour, packed);
-  colour_->upload(std::span<const std::uint32_t>(packed));
+  std::vector<std::uint32_t> packed(color.size() / 3);
+  pack_rgba8(color, packed);
+  color_->upload(std::span<const std::uint32_t>(packed));
   distance_->upload(distance.data(), distance.size() * sizeof(float));
   viewpoint_ = viewpoint;
   nearest_ = options_.max_distance;
@@ -138,7 +138,7 @@ View Reprojector::render(const GpuCamera& target, int slot, double pixels_per_ra
                            .max_distance = options_.max_distance,
                            .inpaint_passes = max_passes,
                            .max_splat = options_.max_splat,
-                           .colour = true,
+                           .color = true,
                            .occlusion_tolerance = options_.occlusion_tolerance};
     it = warpers_.try_emplace(key, *context_, source_, target, warp).first;
   } else {
@@ -156,10 +156,10 @@ View Reprojector::render(const GpuCamera& target, int slot, double pixels_per_ra
   const int passes = warper.inpaint_until_filled(seq, max_passes, kBatch, &gpu_ms);
   seq.begin();
   seq.begin_stage("colour");
-  warper.record_colour_sample(seq, *distance_, *colour_);
-  warper.inpaint_colour_until_filled(seq, max_passes, kBatch, &gpu_ms);
+  warper.record_color_sample(seq, *distance_, *color_);
+  warper.inpaint_color_until_filled(seq, max_passes, kBatch, &gpu_ms);
   last_gpu_ms_ = gpu_ms;
-  return View{warper.download_colour(), warper.download(), passes};
+  return View{warper.download_color(), warper.download(), passes};
 }
 
 namespace {

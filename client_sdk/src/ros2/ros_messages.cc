@@ -310,7 +310,7 @@ FrameMessages FrameConverter::convert(const FrameInputs& frame, const WantedTopi
     out.compressed_depth = compressed_depth(image_header, levels, frame.distance_params);
   if (!wanted.distance && !wanted.points) return out;
   const FloatImage metres =
-      distance_codec_->decode(frame.distance, frame.width, frame.height, frame.distance_params);
+      codec::distance_from_levels(levels, frame.width, frame.height, frame.distance_params);
   if (wanted.distance) out.distance = distance_image(image_header, metres);
   if (wanted.points) {
     Rgb8Image decoded;

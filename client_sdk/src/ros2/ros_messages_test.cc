@@ -114,7 +114,8 @@ TEST(RosMessages, PointsLieOnTheDistanceMap) {
   int holes = 0;
   for (int j = 0; j < 8; ++j)
     for (int i = 0; i < 16; ++i) {
-      const float* p = reinterpret_cast<const float*>(m.data().data()) + 4 * (j * 16 + i);
+      const float* p =
+          reinterpret_cast<const float*>(m.data().data()) + std::ptrdiff_t(4) * (j * 16 + i);
       // The panorama pixel nearest the cell's centre.
       const int x = int((i + 0.5) * w / 16), y = int((j + 0.5) * h / 8);
       std::uint32_t rgb;

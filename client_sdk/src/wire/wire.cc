@@ -1,5 +1,6 @@
 #include "omnisweep/wire/wire.h"
 
+#include <algorithm>
 #include <cmath>
 #include <utility>
 
@@ -142,8 +143,8 @@ DecodedFrame decode_frame(const msg::RgbdFrame& frame) {
   }
   DecodedFrame out;
   out.sequence_number = frame.sequence_number();
-  const auto colour_codec = codec::make_color_codec(frame.color().codec());
-  out.rgb = colour_codec->decode(checked_bytes(frame.color(), "frame.color"), width, height);
+  const auto color_codec = codec::make_color_codec(frame.color().codec());
+  out.rgb = color_codec->decode(checked_bytes(frame.color(), "frame.color"), width, height);
   const auto distance_codec = codec::make_distance_codec(frame.distance().codec());
   out.distance = distance_codec->decode(checked_bytes(frame.distance(), "frame.distance"), width,
                                         height, from_message(frame.distance_params()));

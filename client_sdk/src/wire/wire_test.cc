@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include "omnisweep/rig/basalt_calibration.h"
+#include "omnisweep/wire/frame_stats.h"
 #include "tests/support/test_support.h"
 
 namespace omnisweep::wire {
@@ -110,6 +111,23 @@ TEST(Wire, ServerStatesRoundTripTheirWireText) {
     EXPECT_EQ(parse_server_state(to_string(state)), state) << to_string(state);
   EXPECT_EQ(to_string(ServerState::kSourceStalled), "source stalled");
   EXPECT_EQ(parse_server_state("paused"), std::nullopt);  // a newer server's state
+}
+
+TEST(Wire, LatencyIsFromTheEarliestCamerasCapture) {
+  const std::vector<std::uint64_t> captured = {5'000'000, 2'000'000, 9'000'000, 3'000'000};
+  EXPECT_DOUBLE_EQ(latency_ms(captured, 12'000'000), 10.0);
+  EXPECT_EQ(latency_ms({}, 12'000'000), 0.0);
+}
+
+TEST(Wire, GapCounterCountsLostFramesAndRestarts) {
+  GapCounter gaps;
+  EXPECT_EQ(gaps.see(7), 0u);  // the first frame seen: nothing before it is counted
+  EXPECT_EQ(gaps.see(8), 0u);
+  EXPECT_EQ(gaps.see(11), 2u);  // 9 and 10 lost
+  EXPECT_EQ(gaps.see(0), 0u);   // the server restarted
+  EXPECT_EQ(gaps.see(2), 1u);
+  EXPECT_EQ(gaps.see(2), 0u);  // a repeat counts nothing
+  EXPECT_EQ(gaps.lost(), 3u);
 }
 
 }  // namespace

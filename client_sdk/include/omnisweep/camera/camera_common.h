@@ -82,7 +82,8 @@ class CameraModelBase {
   // the ray at angle t) stops increasing first.
   template <typename Radius>
   void set_valid_cone(Scalar limit, Radius radius) {
-    max_angle_ = limit == limit ? camera_detail::monotonic_angle_limit(radius, limit) : Scalar(0);
+    max_angle_ =
+        std::isnan(limit) ? Scalar(0) : camera_detail::monotonic_angle_limit(radius, limit);
     cos_max_ = std::cos(max_angle_);
   }
 

@@ -24,6 +24,7 @@
 #include "omnisweep/dds/stream_subscriber.h"
 #include "omnisweep/image/image.h"
 #include "omnisweep/rig/rig.h"
+#include "omnisweep/wire/frame_stats.h"
 
 namespace omnisweep::client {
 
@@ -36,7 +37,7 @@ struct StreamInfo {
   int panorama_width = 0;
   int panorama_height = 0;
   Eigen::Vector3d viewpoint = Eigen::Vector3d::Zero();  // rig frame, metres
-  std::string colour_codec;
+  std::string color_codec;
   std::string distance_codec;
   codec::DistanceParams distance_params;
   double target_fps = 0;
@@ -46,7 +47,7 @@ struct StreamInfo {
 struct RgbdFrame {
   std::uint64_t sequence_number = 0;  // consecutive per server run; gaps are frames lost
   std::uint64_t description_revision = 0;
-  Rgb8Image colour;     // equirectangular, ALGORITHM.md §5
+  Rgb8Image color;      // equirectangular, ALGORITHM.md §5
   FloatImage distance;  // metres from the viewpoint, 0 = no value
   // Per pixel in [0, 1], how far to trust `distance` (docs/accuracy.md); empty unless
   // SubscriberOptions::confidence asked for it and the server publishes it (--confidence).
@@ -59,7 +60,7 @@ struct RgbdFrame {
   std::uint64_t publish_time_ns = 0;
   std::uint64_t receive_time_ns = 0;
   std::uint64_t decoded_time_ns = 0;
-  std::size_t colour_bytes = 0;  // payload sizes as received
+  std::size_t color_bytes = 0;  // payload sizes as received
   std::size_t distance_bytes = 0;
 
   // Capture (the earliest camera) to decoded here, milliseconds.
@@ -75,6 +76,22 @@ enum class ConnectionState {
   kStalled,    // frames arrived, then stopped, while a server is still matched
 };
 const char* to_string(ConnectionState state);
+
+// What the subscriber's state is decided from (RgbdSubscriber::state): the stream's state machine
+// as a plain function, so it is tested without DDS.
+struct ConnectionInputs {
+  std::uint64_t frames_received = 0;
+  double since_frame_s = 0;     // since the last frame arrived
+  double since_status_s = 0;    // since the last status arrived
+  bool server_running = false;  // the last status said "running"
+  double server_frame_s = 0;    // the slowest stage's time in that status
+  int matched_servers = 0;
+};
+// kNoServer: no server matched and nothing arriving. kWaiting: matched, no frame yet.
+// kReceiving: a frame within stall_after_s, or, while a running server keeps reporting, within
+// about two of its frame times plus a second (a server slower than stall_after_s per frame is not
+// stalled). kStalled: frames came, then stopped, the server still matched.
+ConnectionState connection_state(const ConnectionInputs& in, double stall_after_s);
 
 struct SubscriberOptions {
   dds::ParticipantOptions participant;
@@ -136,7 +153,7 @@ class RgbdSubscriber {
   std::shared_ptr<const StreamInfo> stream_;
   SubscriberStats stats_;
   std::uint64_t frame_count_ = 0;
-  std::optional<std::uint64_t> last_sequence_;
+  wire::GapCounter gaps_;
   std::deque<msg::ConfidenceFrame> confidences_;  // the newest few, waiting for their frames
   std::chrono::steady_clock::time_point last_frame_time_;
   // When the last status arrived, whether it said "running", and the slowest stage's time in it:

@@ -76,6 +76,15 @@ class DistanceCodec {
                                              int height, const DistanceParams& params) const = 0;
 };
 
+// Metres of each stored level of `params` (index 0, no value: 0): what DistanceCodec::decode
+// maps levels through.
+std::vector<float> level_metres(const DistanceParams& params);
+// A width x height distance map in metres from levels as decode_levels() gives them (stored at
+// 1/params.downsample per axis): bit-identical to decode() of the same payload, for a receiver
+// that needs both the levels and the metres without decoding twice.
+FloatImage distance_from_levels(const Image<std::uint16_t>& levels, int width, int height,
+                                const DistanceParams& params);
+
 // The per-pixel confidence of a distance panorama, as 8-bit levels (0 = none, 255 = full).
 class ConfidenceCodec {
  public:

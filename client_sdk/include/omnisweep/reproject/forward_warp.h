@@ -45,7 +45,7 @@ struct WarpOptions {
   // footprint in the target, up to this many pixels across (views that magnify the source).
   double max_splat = 1.0;
   // Allocate what record_colour needs.
-  bool colour = false;
+  bool color = false;
   // record_colour: a point is hidden from the source when the source's distance map holds a
   // value nearer than (1 - occlusion_tolerance) times the point's distance.
   double occlusion_tolerance = 0.1;
@@ -82,8 +82,8 @@ class ForwardWarper {
   // (source pixels packed as pack_rgba8 makes them) where the source sees that point, then the
   // rest (disocclusions) inpainted from the background side. `distance` is the map given to
   // record(). Needs WarpOptions::colour.
-  void record_colour(gpu::Sequence& seq, const gpu::Buffer& distance,
-                     const gpu::Buffer& source_colour);
+  void record_color(gpu::Sequence& seq, const gpu::Buffer& distance,
+                    const gpu::Buffer& source_color);
 
   // Adaptive inpainting (novel views, where hole widths vary with the pose): record_warp, then
   // inpaint_until_filled runs passes in batches of `batch`, submitting `seq` (with what was
@@ -92,16 +92,16 @@ class ForwardWarper {
   // colour: record_colour_sample, then inpaint_colour_until_filled.
   void record_warp(gpu::Sequence& seq, const gpu::Buffer& distance);
   int inpaint_until_filled(gpu::Sequence& seq, int max_passes, int batch, double* gpu_ms);
-  void record_colour_sample(gpu::Sequence& seq, const gpu::Buffer& distance,
-                            const gpu::Buffer& source_colour);
-  int inpaint_colour_until_filled(gpu::Sequence& seq, int max_passes, int batch, double* gpu_ms);
+  void record_color_sample(gpu::Sequence& seq, const gpu::Buffer& distance,
+                           const gpu::Buffer& source_color);
+  int inpaint_color_until_filled(gpu::Sequence& seq, int max_passes, int batch, double* gpu_ms);
 
   // Target width x height per layer; bits of float distances, 0xffffffff where there is none.
   const gpu::Buffer& result() const;
   // The result of `layer` as distances, 0 where there is none.
   FloatImage download(int layer = 0) const;
   // The colour after record_colour, black where nothing could be filled.
-  Rgb8Image download_colour() const;
+  Rgb8Image download_color() const;
 
   // Per target pixel, its two background-side neighbours and their weights (struct Direction in
   // shaders/include/inpaint.glsl), as the last record computed them: for checks of inpainting.
@@ -131,17 +131,17 @@ class ForwardWarper {
   gpu::Buffer buffers_[2];   // ping-pong z-buffers
   gpu::Buffer filled_;       // per pass: did it fill anything
   int result_ = 0;           // which of buffers_ holds the distance result
-  int colour_result_ = 0;    // which of colour_buffers_ holds the colour result
+  int color_result_ = 0;     // which of colour_buffers_ holds the colour result
   std::uint32_t tile_ = 32;  // inpainting tile side (inpaint_tile.glsl), to fit shared memory
   gpu::Buffer tile_status_;  // per tile and layer, twice: one dispatch writes what the next reads
-  std::vector<gpu::Buffer> colour_buffers_;  // ping-pong colours (WarpOptions::colour only)
+  std::vector<gpu::Buffer> color_buffers_;  // ping-pong colours (WarpOptions::colour only)
   // warp_, directions_kernel_ and sample_colour_ are compiled for the source's and the target's
   // camera models (model_constants), and again when set_target changes the target's model.
   gpu::Kernel warp_;
   gpu::Kernel directions_kernel_;
   gpu::Kernel inpaint_;
-  std::optional<gpu::Kernel> sample_colour_;
-  std::optional<gpu::Kernel> inpaint_colour_;
+  std::optional<gpu::Kernel> sample_color_;
+  std::optional<gpu::Kernel> inpaint_color_;
 };
 
 }  // namespace omnisweep::reproject

@@ -46,7 +46,7 @@ struct ReprojectorOptions {
 };
 
 struct View {
-  Rgb8Image colour;
+  Rgb8Image color;
   FloatImage distance;     // metres from the view's centre, 0 = none
   int inpaint_passes = 0;  // distance inpainting passes run for this pose
 };
@@ -67,11 +67,11 @@ class Reprojector {
 
   // The panorama to render from: colour (RGB) and distance (metres, 0 = none) of the same
   // width x height, in the rig frame's axes, centred on `viewpoint` (rig frame).
-  void set_panorama(const Rgb8Image& colour, const FloatImage& distance,
+  void set_panorama(const Rgb8Image& color, const FloatImage& distance,
                     const Eigen::Vector3d& viewpoint);
   // The same with the distance's confidence in [0, 1] (RgbdFrame::confidence; empty: none), for
   // ReprojectorOptions::min_confidence.
-  void set_panorama(const Rgb8Image& colour, const FloatImage& distance,
+  void set_panorama(const Rgb8Image& color, const FloatImage& distance,
                     const Eigen::Vector3d& viewpoint, const FloatImage& confidence);
 
   View render_panorama(const Rigid3d& rig_from_view, int width, int height);
@@ -88,7 +88,7 @@ class Reprojector {
   gpu::Context* context_;
   ReprojectorOptions options_;
   std::optional<gpu::Buffer> distance_;
-  std::optional<gpu::Buffer> colour_;
+  std::optional<gpu::Buffer> color_;
   GpuCamera source_{};
   Eigen::Vector3d viewpoint_ = Eigen::Vector3d::Zero();
   double nearest_ = 0;  // the panorama's nearest distance, at least min_distance
