@@ -37,7 +37,7 @@ TEST(StatusBoard, StageMeansPerWindowCarryOverEmptyWindows) {
 TEST(StatusBoard, CountsFramesDropsAndCameraFpsPerWindow) {
   StatusBoard board({"capture"});
   board.set_cameras(cameras(0));
-  for (int i = 0; i < 3; ++i) board.count_captured(cameras(std::uint64_t(i + 1)));
+  for (int i = 0; i < 3; ++i) board.count_captured(cameras(std::uint64_t(i) + 1));
   board.count_published();
   board.count_drop("encoder busy");
   board.count_drop("encoder busy");
@@ -57,7 +57,7 @@ TEST(StatusBoard, CountsFramesDropsAndCameraFpsPerWindow) {
   EXPECT_TRUE(s.cameras()[0].delivering());
   EXPECT_EQ(s.cameras()[0].fps(), 0.0f);  // the first window has no count to start from
   EXPECT_EQ(s.cameras()[1].message(), "silent");
-  for (int i = 3; i < 8; ++i) board.count_captured(cameras(std::uint64_t(i + 1)));
+  for (int i = 3; i < 8; ++i) board.count_captured(cameras(std::uint64_t(i) + 1));
   s = board.take(8, {});
   EXPECT_EQ(s.fps_in(), 5.0f);
   EXPECT_EQ(s.fps_out(), 0.0f);
