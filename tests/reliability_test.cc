@@ -8,6 +8,7 @@
 #include <atomic>
 #include <csignal>
 #include <filesystem>
+#include <functional>
 #include <map>
 #include <memory>
 #include <regex>
@@ -16,6 +17,7 @@
 
 #include "omnisweep/client/rgbd_subscriber.h"
 #include "omnisweep/dds/stream_subscriber.h"
+#include "omnisweep/wire/wire.h"
 #include "tests/support/stream_fixture.h"
 
 namespace omnisweep {
@@ -79,16 +81,17 @@ struct ServerLoad {
   std::size_t statuses = 0;
 };
 
-template <typename Subscriber>
-ServerLoad server_load(const Subscriber& subscriber, double seconds) {
+// The server's load from the statuses `status()` returns (a subscriber's newest) for `seconds`.
+ServerLoad server_load(const std::function<std::optional<wire::StatusReport>()>& status,
+                       double seconds) {
   std::map<std::uint64_t, ServerLoad> seen;  // by status time
   const auto start = Clock::now();
   while (seconds_since(start) < seconds) {
-    if (const auto s = subscriber.status()) {
-      ServerLoad load{.fps = s->fps_out()};
-      for (const auto& stage : s->stage_ms())
-        (stage.stage() == "publish" ? load.publish_ms : load.work_ms) += stage.ms();
-      seen[s->time_ns()] = load;
+    if (const auto s = status()) {
+      ServerLoad load{.fps = s->fps_out};
+      for (const auto& [stage, ms] : s->stage_ms)
+        (stage == "publish" ? load.publish_ms : load.work_ms) += ms;
+      seen[s->time_ns] = load;
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(100));
   }
@@ -128,7 +131,7 @@ TEST_F(ReliabilityTest, BlockedSubscriberSlowsNeitherTheServerNorAnother) {
     std::this_thread::sleep_for(std::chrono::milliseconds(100));
   ASSERT_EQ(slow_frames, 1) << server.log();
   const double blocked_fps = frame_rate(fast_frames, 8);
-  const ServerLoad server_blocked = server_load(fast, 4);
+  const ServerLoad server_blocked = server_load([&] { return fast.status(); }, 4);
   const int slow_seen = slow_frames;  // before its callback returns and takes the next frame
   release = true;
   slow.reset();
@@ -161,7 +164,13 @@ TEST_F(ReliabilityTest, EightSubscribersCostTheServerLittle) {
       EXPECT_GT(s->frames_received(), 0u) << server.log();
     }
     std::this_thread::sleep_for(std::chrono::seconds(2));  // status windows with all of them
-    return server_load(*subscribers.front(), 8);
+    return server_load(
+        [&]() -> std::optional<wire::StatusReport> {
+          const auto m = subscribers.front()->status();
+          if (!m) return std::nullopt;
+          return wire::from_message(*m);
+        },
+        8);
   };
   const ServerLoad one = load_with(1), eight = load_with(8);
   std::printf(
@@ -185,7 +194,7 @@ bool server_state_becomes(const client::RgbdSubscriber& subscriber, const std::s
                           double seconds) {
   const auto start = Clock::now();
   while (seconds_since(start) < seconds) {
-    if (const auto s = subscriber.status(); s && s->state() == state) return true;
+    if (const auto s = subscriber.status(); s && s->state == state) return true;
     std::this_thread::sleep_for(std::chrono::milliseconds(100));
   }
   return false;

@@ -7,22 +7,21 @@
 #include <optional>
 #include <string>
 
-#include "omnisweep_msgs.h"
+#include "omnisweep/wire/server_status.h"
 
 namespace omnisweep::tools {
 
-inline std::string waiting_line(const std::optional<msg::ServerStatus>& status) {
+inline std::string waiting_line(const std::optional<wire::StatusReport>& status) {
   std::string line = "waiting for the first frame";
   if (!status) return line + " (no status from the server yet)";
   std::string stages;
-  for (const auto& t : status->stage_ms()) {
-    if (t.ms() <= 0) continue;
+  for (const auto& [stage, ms] : status->stage_ms) {
+    if (ms <= 0) continue;
     char buf[64];
-    std::snprintf(buf, sizeof buf, "%s %s %.0f ms", stages.empty() ? "" : ",", t.stage().c_str(),
-                  t.ms());
+    std::snprintf(buf, sizeof buf, "%s %s %.0f ms", stages.empty() ? "" : ",", stage.c_str(), ms);
     stages += buf;
   }
-  return line + " (server " + status->state() +
+  return line + " (server " + status->state +
          (stages.empty() ? ", no stage has finished a frame yet)" : "; per frame:" + stages + ")");
 }
 

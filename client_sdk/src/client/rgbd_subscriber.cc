@@ -2,7 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <condition_variable>
+#include <deque>
+#include <mutex>
 
+#include "omnisweep/dds/stream_subscriber.h"
 #include "omnisweep/options/option_error.h"
 #include "omnisweep/time/clock.h"
 #include "omnisweep/wire/wire.h"
@@ -35,6 +39,9 @@ void SubscriberOptions::check() const {
         "\"reliable\" or a data_reader profile of the QoS file");
 }
 
+namespace {
+
+// The stream description as StreamInfo; throws wire::WireError naming the field at fault.
 StreamInfo stream_info_from(const msg::StreamDescription& d) {
   StreamInfo info;
   info.topic_prefix = d.topic_prefix();
@@ -51,7 +58,38 @@ StreamInfo stream_info_from(const msg::StreamDescription& d) {
   return info;
 }
 
+}  // namespace
+
+struct RgbdSubscriber::Impl {
+  Impl(const SubscriberOptions& options, FrameCallback on_frame);
+  void on_frame(const msg::RgbdFrame& message);
+  void on_description(const msg::StreamDescription& message);
+  // The confidence of `m` if it has arrived: decoded, or empty (counted).
+  FloatImage take_confidence(const msg::RgbdFrame& m);
+
+  SubscriberOptions options_;
+  FrameCallback callback_;
+  mutable std::mutex mutex_;
+  mutable std::condition_variable frame_arrived_;
+  std::shared_ptr<const RgbdFrame> latest_;
+  std::shared_ptr<const StreamInfo> stream_;
+  SubscriberStats stats_;
+  std::uint64_t frame_count_ = 0;
+  wire::GapCounter gaps_;
+  std::deque<msg::ConfidenceFrame> confidences_;  // the newest few, waiting for their frames
+  std::chrono::steady_clock::time_point last_frame_time_;
+  // When the last status arrived, whether it said "running", and the slowest stage's time in it:
+  // a server slower than stall_after_s per frame is not stalled while it reports working.
+  std::chrono::steady_clock::time_point last_status_time_;
+  bool server_running_ = false;
+  double server_frame_s_ = 0;
+  std::unique_ptr<dds::StreamSubscriber> subscriber_;  // last: its callbacks use the above
+};
+
 RgbdSubscriber::RgbdSubscriber(const SubscriberOptions& options, FrameCallback on_frame)
+    : impl_(std::make_unique<Impl>(options, std::move(on_frame))) {}
+
+RgbdSubscriber::Impl::Impl(const SubscriberOptions& options, FrameCallback on_frame)
     : options_(options), callback_(std::move(on_frame)) {
   options.check();
   dds::StreamCallbacks callbacks;
@@ -79,9 +117,9 @@ RgbdSubscriber::RgbdSubscriber(const SubscriberOptions& options, FrameCallback o
                                                         std::move(callbacks), topics);
 }
 
-RgbdSubscriber::~RgbdSubscriber() { subscriber_.reset(); }
+RgbdSubscriber::~RgbdSubscriber() { impl_->subscriber_.reset(); }
 
-void RgbdSubscriber::on_description(const msg::StreamDescription& message) {
+void RgbdSubscriber::Impl::on_description(const msg::StreamDescription& message) {
   try {
     auto info = std::make_shared<const StreamInfo>(stream_info_from(message));
     const std::lock_guard lock(mutex_);
@@ -92,7 +130,7 @@ void RgbdSubscriber::on_description(const msg::StreamDescription& message) {
   }
 }
 
-FloatImage RgbdSubscriber::take_confidence(const msg::RgbdFrame& m) {
+FloatImage RgbdSubscriber::Impl::take_confidence(const msg::RgbdFrame& m) {
   std::optional<msg::ConfidenceFrame> found;
   {
     const std::lock_guard lock(mutex_);
@@ -118,7 +156,7 @@ FloatImage RgbdSubscriber::take_confidence(const msg::RgbdFrame& m) {
   return {};
 }
 
-void RgbdSubscriber::on_frame(const msg::RgbdFrame& m) {
+void RgbdSubscriber::Impl::on_frame(const msg::RgbdFrame& m) {
   const std::uint64_t received = wall_clock_ns();
   const std::size_t bytes = m.color().data().size() + m.distance().data().size();
   {
@@ -163,26 +201,32 @@ void RgbdSubscriber::on_frame(const msg::RgbdFrame& m) {
 }
 
 std::shared_ptr<const RgbdFrame> RgbdSubscriber::latest_frame() const {
-  const std::lock_guard lock(mutex_);
-  return latest_;
+  const std::lock_guard lock(impl_->mutex_);
+  return impl_->latest_;
 }
 
 std::shared_ptr<const RgbdFrame> RgbdSubscriber::wait_for_frame(
     std::chrono::milliseconds timeout) const {
-  std::unique_lock lock(mutex_);
-  const std::uint64_t seen = frame_count_;
-  if (!frame_arrived_.wait_for(lock, timeout, [&] { return frame_count_ > seen; })) return nullptr;
-  return latest_;
+  Impl& i = *impl_;
+  std::unique_lock lock(i.mutex_);
+  const std::uint64_t seen = i.frame_count_;
+  if (!i.frame_arrived_.wait_for(lock, timeout, [&] { return i.frame_count_ > seen; }))
+    return nullptr;
+  return i.latest_;
 }
 
 std::shared_ptr<const StreamInfo> RgbdSubscriber::stream_info() const {
-  const std::lock_guard lock(mutex_);
-  return stream_;
+  const std::lock_guard lock(impl_->mutex_);
+  return impl_->stream_;
 }
 
-std::optional<msg::ServerStatus> RgbdSubscriber::status() const { return subscriber_->status(); }
+std::optional<wire::StatusReport> RgbdSubscriber::status() const {
+  const std::optional<msg::ServerStatus> message = impl_->subscriber_->status();
+  if (!message) return std::nullopt;
+  return wire::from_message(*message);
+}
 
-int RgbdSubscriber::matched_servers() const { return subscriber_->matched_servers(); }
+int RgbdSubscriber::matched_servers() const { return impl_->subscriber_->matched_servers(); }
 
 ConnectionState connection_state(const ConnectionInputs& in, double stall_after_s) {
   if (in.frames_received > 0) {
@@ -198,22 +242,23 @@ ConnectionState connection_state(const ConnectionInputs& in, double stall_after_
 }
 
 ConnectionState RgbdSubscriber::state() const {
-  const int matched = subscriber_->matched_servers();
-  const std::lock_guard lock(mutex_);
+  const Impl& i = *impl_;
+  const int matched = i.subscriber_->matched_servers();
+  const std::lock_guard lock(i.mutex_);
   const auto now = std::chrono::steady_clock::now();
   return connection_state(
-      {.frames_received = stats_.frames_received,
-       .since_frame_s = std::chrono::duration<double>(now - last_frame_time_).count(),
-       .since_status_s = std::chrono::duration<double>(now - last_status_time_).count(),
-       .server_running = server_running_,
-       .server_frame_s = server_frame_s_,
+      {.frames_received = i.stats_.frames_received,
+       .since_frame_s = std::chrono::duration<double>(now - i.last_frame_time_).count(),
+       .since_status_s = std::chrono::duration<double>(now - i.last_status_time_).count(),
+       .server_running = i.server_running_,
+       .server_frame_s = i.server_frame_s_,
        .matched_servers = matched},
-      options_.stall_after_s);
+      i.options_.stall_after_s);
 }
 
 SubscriberStats RgbdSubscriber::stats() const {
-  const std::lock_guard lock(mutex_);
-  return stats_;
+  const std::lock_guard lock(impl_->mutex_);
+  return impl_->stats_;
 }
 
 }  // namespace omnisweep::client

@@ -267,13 +267,79 @@ Context::Context(const ContextOptions& options)
   staging_ = std::make_unique<StagingPool>(*this);
 }
 
+Context::Context(const ExternalVulkan& external, const ContextOptions& options)
+    : external_(true),
+      messages_(std::make_unique<Messages>()),
+      hidden_memory_(options.hidden_memory) {
+  if (!external.instance || !external.physical_device || !external.device) {
+    throw GpuError(std::string("external Vulkan: the ") +
+                   (!external.instance          ? "instance"
+                    : !external.physical_device ? "physical device"
+                                                : "device") +
+                   " handle is null");
+  }
+  // Wrapped, not created: the destructor releases these without destroying them, and so does
+  // this guard if a check below throws (the members would otherwise destroy the app's handles).
+  instance_ = vk::raii::Instance(context_, external.instance);
+  struct ReleaseOnThrow {
+    Context* context;
+    bool armed = true;
+    ~ReleaseOnThrow() {
+      if (armed) context->release_external();
+    }
+  } guard{this};
+  physical_device_ = vk::raii::PhysicalDevice(instance_, external.physical_device);
+  int index = 0;  // the device's place in the loader's order, as list_devices() numbers it
+  for (const auto& d : instance_.enumeratePhysicalDevices()) {
+    if (*d == vk::PhysicalDevice(external.physical_device)) break;
+    ++index;
+  }
+  info_ = describe(physical_device_, index);
+  const std::uint32_t api = physical_device_.getProperties().apiVersion;
+  if (VK_API_VERSION_MAJOR(api) == 1 && VK_API_VERSION_MINOR(api) < 1)
+    throw GpuError("external Vulkan: " + info_.name + " supports Vulkan " + info_.api_version +
+                   "; the SDK's kernels need 1.1");
+  const auto families = physical_device_.getQueueFamilyProperties();
+  if (external.queue_family >= families.size() ||
+      !(families[external.queue_family].queueFlags & vk::QueueFlagBits::eCompute) ||
+      external.queue_index >= families[external.queue_family].queueCount) {
+    throw GpuError("external Vulkan: queue " + std::to_string(external.queue_index) +
+                   " of family " + std::to_string(external.queue_family) + " on " + info_.name +
+                   " is not a compute queue the device has");
+  }
+  // What the app did not enable the kernels do without.
+  info_.storage_16bit = info_.storage_16bit && external.storage_buffer_16bit_access;
+  info_.buffer_array_indexing =
+      info_.buffer_array_indexing && external.storage_buffer_array_dynamic_indexing;
+  queue_family_ = external.queue_family;
+  memory_properties_ = physical_device_.getMemoryProperties();
+  device_ = vk::raii::Device(physical_device_, external.device);
+  queue_ = vk::raii::Queue(device_, queue_family_, external.queue_index);
+  command_pool_ = vk::raii::CommandPool(
+      device_,
+      vk::CommandPoolCreateInfo(vk::CommandPoolCreateFlagBits::eResetCommandBuffer, queue_family_));
+  staging_ = std::make_unique<StagingPool>(*this);
+  guard.armed = false;
+}
+
+void Context::release_external() noexcept {
+  // What the SDK made on the app's device goes first, while the device's dispatcher is alive;
+  // then the app's handles are let go without being destroyed.
+  staging_.reset();
+  command_pool_.clear();
+  (void)device_.release();
+  (void)instance_.release();
+}
+
 Context::~Context() {
   // A lost device (vk::DeviceLostError) has nothing left to wait for, and a destructor must not
-  // throw: the members are destroyed either way.
+  // throw: the members are destroyed either way. An app's device is not waited on (every SDK
+  // submission has been waited for already, and the app's own work is not the SDK's business).
   try {
-    if (*device_) device_.waitIdle();
+    if (*device_ && !external_) device_.waitIdle();
   } catch (...) {
   }
+  if (external_) release_external();
 }
 
 std::vector<std::string> Context::take_validation_messages() {

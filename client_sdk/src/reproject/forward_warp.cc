@@ -286,6 +286,11 @@ int ForwardWarper::inpaint_color_until_filled(gpu::Sequence& seq, int max_passes
 
 const gpu::Buffer& ForwardWarper::result() const { return buffers_[result_]; }
 
+const gpu::Buffer& ForwardWarper::color_result() const {
+  if (!options_.color) throw std::logic_error("forward warp: no colour without WarpOptions::color");
+  return color_buffers_[color_result_];
+}
+
 FloatImage ForwardWarper::download(int layer) const {
   if (layer < 0 || layer >= int(layers_.size()))
     throw std::out_of_range("forward warp: no layer " + std::to_string(layer));
@@ -301,7 +306,7 @@ FloatImage ForwardWarper::download(int layer) const {
 Rgb8Image ForwardWarper::download_color() const {
   if (!options_.color)
     throw std::logic_error("forward warp: download_colour needs WarpOptions::colour");
-  const std::vector<std::uint32_t> packed = color_buffers_[color_result_].download<std::uint32_t>();
+  const std::vector<std::uint32_t> packed = color_result().download<std::uint32_t>();
   Rgb8Image out(int(target().width), int(target().height), 3, 0);
   std::uint8_t* rgb = out.data();
   for (std::size_t p = 0; p < packed.size(); ++p) {

@@ -123,6 +123,31 @@ void Reprojector::set_panorama(const Rgb8Image& color, const FloatImage& distanc
 }
 
 View Reprojector::render(const GpuCamera& target, int slot, double pixels_per_radian) {
+  const auto [warper, passes] = render_on_gpu(target, slot, pixels_per_radian);
+  return View{warper->download_color(), warper->download(), passes};
+}
+
+int Reprojector::copy_into(const std::pair<ForwardWarper*, int>& rendered, const ViewBuffers& out) {
+  const ForwardWarper& warper = *rendered.first;
+  const vk::DeviceSize bytes = vk::DeviceSize(warper.target().width) * warper.target().height * 4;
+  context_->run_commands([&](const vk::raii::CommandBuffer& cmd) {
+    // The kernels' writes (earlier submissions on this queue) before the copies read them.
+    const vk::MemoryBarrier written(vk::AccessFlagBits::eShaderWrite,
+                                    vk::AccessFlagBits::eTransferRead);
+    cmd.pipelineBarrier(vk::PipelineStageFlagBits::eComputeShader,
+                        vk::PipelineStageFlagBits::eTransfer, {}, written, {}, {});
+    if (out.color)
+      cmd.copyBuffer(warper.color_result().handle(), out.color,
+                     vk::BufferCopy(0, out.color_offset, bytes));
+    if (out.distance)
+      cmd.copyBuffer(warper.result().handle(), out.distance,
+                     vk::BufferCopy(0, out.distance_offset, bytes));
+  });
+  return rendered.second;
+}
+
+std::pair<ForwardWarper*, int> Reprojector::render_on_gpu(const GpuCamera& target, int slot,
+                                                          double pixels_per_radian) {
   if (!distance_) throw std::logic_error("reprojector: set_panorama before rendering");
   // Widest disocclusion this pose can open: the parallax between the panorama's nearest
   // surface and d_max.
@@ -159,7 +184,7 @@ View Reprojector::render(const GpuCamera& target, int slot, double pixels_per_ra
   warper.record_color_sample(seq, *distance_, *color_);
   warper.inpaint_color_until_filled(seq, max_passes, kBatch, &gpu_ms);
   last_gpu_ms_ = gpu_ms;
-  return View{warper.download_color(), warper.download(), passes};
+  return {&warper, passes};
 }
 
 namespace {
@@ -175,25 +200,53 @@ void check_size(int width, int height, const char* what) {
                                 " size must be 1-16384 pixels per side");
 }
 
+GpuCamera panorama_target(const Rigid3d& rig_from_view, const Eigen::Vector3d& viewpoint, int width,
+                          int height) {
+  check_size(width, height, "panorama");
+  return pack_equirectangular(width, height, view_from_panorama(rig_from_view, viewpoint));
+}
+
+GpuCamera pinhole_target(const Rigid3d& rig_from_view, const Eigen::Vector3d& viewpoint,
+                         const PinholeCamera<double>& camera, int width, int height) {
+  check_size(width, height, "pinhole view");
+  return pack_camera(CameraModel<double>(camera), width, height,
+                     view_from_panorama(rig_from_view, viewpoint));
+}
+
+// Pixels per radian at a pinhole image's widest point, where it magnifies most.
+double pinhole_pixels_per_radian(const PinholeCamera<double>& camera, int width, int height) {
+  const auto p = camera.params();
+  const double edge = std::max({p[2], width - 1 - p[2], p[3], height - 1 - p[3]});
+  const double f = std::max(p[0], p[1]);
+  return f * (1 + (edge / f) * (edge / f));
+}
+
 }  // namespace
 
 View Reprojector::render_panorama(const Rigid3d& rig_from_view, int width, int height) {
-  check_size(width, height, "panorama");
-  const GpuCamera target =
-      pack_equirectangular(width, height, view_from_panorama(rig_from_view, viewpoint_));
-  return render(target, 0, width / (2 * std::numbers::pi));
+  return render(panorama_target(rig_from_view, viewpoint_, width, height), 0,
+                width / (2 * std::numbers::pi));
 }
 
 View Reprojector::render_pinhole(const Rigid3d& rig_from_view, const PinholeCamera<double>& camera,
                                  int width, int height) {
-  check_size(width, height, "pinhole view");
-  const GpuCamera target = pack_camera(CameraModel<double>(camera), width, height,
-                                       view_from_panorama(rig_from_view, viewpoint_));
-  // Pixels per radian at the image's widest point, where a pinhole magnifies most.
-  const auto p = camera.params();
-  const double edge = std::max({p[2], width - 1 - p[2], p[3], height - 1 - p[3]});
-  const double f = std::max(p[0], p[1]);
-  return render(target, 0, f * (1 + (edge / f) * (edge / f)));
+  return render(pinhole_target(rig_from_view, viewpoint_, camera, width, height), 0,
+                pinhole_pixels_per_radian(camera, width, height));
+}
+
+int Reprojector::render_panorama_into(const Rigid3d& rig_from_view, int width, int height,
+                                      const ViewBuffers& out) {
+  return copy_into(render_on_gpu(panorama_target(rig_from_view, viewpoint_, width, height), 0,
+                                 width / (2 * std::numbers::pi)),
+                   out);
+}
+
+int Reprojector::render_pinhole_into(const Rigid3d& rig_from_view,
+                                     const PinholeCamera<double>& camera, int width, int height,
+                                     const ViewBuffers& out) {
+  return copy_into(render_on_gpu(pinhole_target(rig_from_view, viewpoint_, camera, width, height),
+                                 0, pinhole_pixels_per_radian(camera, width, height)),
+                   out);
 }
 
 std::array<View, 6> Reprojector::render_cube_map(const Rigid3d& rig_from_view, int face_size) {

@@ -118,6 +118,28 @@ std::optional<ServerState> parse_server_state(std::string_view text) {
   return std::nullopt;
 }
 
+StatusReport from_message(const msg::ServerStatus& status) {
+  StatusReport r;
+  r.time_ns = status.time_ns();
+  r.state = status.state();
+  r.known_state = parse_server_state(r.state);
+  r.fps_in = status.fps_in();
+  r.fps_out = status.fps_out();
+  for (const auto& t : status.stage_ms()) r.stage_ms.emplace_back(t.stage(), t.ms());
+  for (const auto& d : status.dropped()) r.dropped[d.reason()] += d.count();
+  r.matched_subscribers = status.matched_subscribers();
+  for (const auto& c : status.cameras()) {
+    r.cameras.push_back({.camera = c.camera(),
+                         .delivering = c.delivering(),
+                         .fps = c.fps(),
+                         .last_frame_ns = c.last_frame_ns(),
+                         .message = c.message()});
+  }
+  r.color_quality = status.color_quality();
+  r.frames_over_budget = status.frames_over_budget();
+  return r;
+}
+
 msg::Payload make_payload(std::string_view codec_name, const codec::Bytes& data) {
   msg::Payload p;
   p.codec(std::string(codec_name));

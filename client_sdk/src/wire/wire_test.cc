@@ -113,6 +113,49 @@ TEST(Wire, ServerStatesRoundTripTheirWireText) {
   EXPECT_EQ(parse_server_state("paused"), std::nullopt);  // a newer server's state
 }
 
+TEST(Wire, StatusBecomesPlainValues) {
+  msg::ServerStatus m;
+  m.time_ns(42);
+  m.state("source stalled");
+  m.fps_in(4);
+  m.fps_out(3);
+  msg::StageTime depth;
+  depth.stage("depth");
+  depth.ms(120.5f);
+  m.stage_ms({depth});
+  msg::DropCount drop;
+  drop.reason("encoder busy");
+  drop.count(9);
+  m.dropped({drop});
+  m.matched_subscribers(2);
+  msg::CameraHealth camera;
+  camera.camera(1);
+  camera.delivering(false);
+  camera.message("no image for 2 s");
+  m.cameras({camera});
+  m.color_quality(80);
+  m.frames_over_budget(3);
+  const StatusReport r = from_message(m);
+  EXPECT_EQ(r.time_ns, 42u);
+  EXPECT_EQ(r.state, "source stalled");
+  EXPECT_EQ(r.known_state, ServerState::kSourceStalled);
+  EXPECT_EQ(r.fps_in, 4.0);
+  EXPECT_EQ(r.fps_out, 3.0);
+  ASSERT_EQ(r.stage_ms.size(), 1u);
+  EXPECT_EQ(r.stage_ms[0], (std::pair<std::string, double>{"depth", 120.5}));
+  EXPECT_EQ(r.dropped.at("encoder busy"), 9u);
+  EXPECT_EQ(r.matched_subscribers, 2);
+  ASSERT_EQ(r.cameras.size(), 1u);
+  EXPECT_EQ(r.cameras[0].camera, 1);
+  EXPECT_FALSE(r.cameras[0].delivering);
+  EXPECT_EQ(r.cameras[0].message, "no image for 2 s");
+  EXPECT_EQ(r.color_quality, 80);
+  EXPECT_EQ(r.frames_over_budget, 3u);
+  m.state("paused");  // a newer server's state: kept as text
+  EXPECT_EQ(from_message(m).known_state, std::nullopt);
+  EXPECT_EQ(from_message(m).state, "paused");
+}
+
 TEST(Wire, LatencyIsFromTheEarliestCamerasCapture) {
   const std::vector<std::uint64_t> captured = {5'000'000, 2'000'000, 9'000'000, 3'000'000};
   EXPECT_DOUBLE_EQ(latency_ms(captured, 12'000'000), 10.0);

@@ -5,26 +5,24 @@
 //
 //   client::RgbdSubscriber subscriber({.participant = {.domain = 0}});
 //   if (auto frame = subscriber.wait_for_frame(std::chrono::seconds(5)))
-//     use(frame->colour, frame->distance, frame->stream->rig);
+//     use(frame->color, frame->distance, frame->stream->rig);
 #pragma once
 
 #include <Eigen/Core>
 #include <chrono>
-#include <condition_variable>
 #include <cstdint>
-#include <deque>
 #include <functional>
 #include <memory>
-#include <mutex>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "omnisweep/codec/codec.h"
-#include "omnisweep/dds/stream_subscriber.h"
+#include "omnisweep/dds/participant.h"
 #include "omnisweep/image/image.h"
 #include "omnisweep/rig/rig.h"
 #include "omnisweep/wire/frame_stats.h"
+#include "omnisweep/wire/server_status.h"
 
 namespace omnisweep::client {
 
@@ -134,37 +132,14 @@ class RgbdSubscriber {
   std::shared_ptr<const RgbdFrame> wait_for_frame(std::chrono::milliseconds timeout) const;
 
   std::shared_ptr<const StreamInfo> stream_info() const;  // null until received
-  std::optional<msg::ServerStatus> status() const;        // the newest status message
+  std::optional<wire::StatusReport> status() const;       // the server's newest status
   ConnectionState state() const;
   SubscriberStats stats() const;
   int matched_servers() const;
 
  private:
-  void on_frame(const msg::RgbdFrame& message);
-  void on_description(const msg::StreamDescription& message);
-  // The confidence of `m` if it has arrived: decoded, or empty (counted).
-  FloatImage take_confidence(const msg::RgbdFrame& m);
-
-  SubscriberOptions options_;
-  FrameCallback callback_;
-  mutable std::mutex mutex_;
-  mutable std::condition_variable frame_arrived_;
-  std::shared_ptr<const RgbdFrame> latest_;
-  std::shared_ptr<const StreamInfo> stream_;
-  SubscriberStats stats_;
-  std::uint64_t frame_count_ = 0;
-  wire::GapCounter gaps_;
-  std::deque<msg::ConfidenceFrame> confidences_;  // the newest few, waiting for their frames
-  std::chrono::steady_clock::time_point last_frame_time_;
-  // When the last status arrived, whether it said "running", and the slowest stage's time in it:
-  // a server slower than stall_after_s per frame is not stalled while it reports working.
-  std::chrono::steady_clock::time_point last_status_time_;
-  bool server_running_ = false;
-  double server_frame_s_ = 0;
-  std::unique_ptr<dds::StreamSubscriber> subscriber_;  // last: its callbacks use the above
+  struct Impl;  // the DDS side (client_sdk/src/client/rgbd_subscriber.cc): no DDS type here
+  std::unique_ptr<Impl> impl_;
 };
-
-// The stream description as StreamInfo; throws wire::WireError naming the field at fault.
-StreamInfo stream_info_from(const msg::StreamDescription& description);
 
 }  // namespace omnisweep::client

@@ -89,10 +89,33 @@ struct DeviceInfo {
 // The Vulkan devices present, in the loader's order; throws GpuError without a loader.
 std::vector<DeviceInfo> list_devices();
 
+// Vulkan an app already owns (a VR or teleoperation app with its own instance and device): a
+// Context made from it runs every SDK kernel on the app's device and queue and never destroys
+// the app's handles. The device must support Vulkan 1.1, and its queue family compute. Features
+// cannot be read back from a device, so the app says which optional ones it enabled; the SDK
+// uses a feature only when it is enabled and supported. The SDK submits to the queue under its
+// own lock: the app must not submit to the same queue from another thread while an SDK call
+// runs (or hand the SDK a queue index of its own).
+struct ExternalVulkan {
+  VkInstance instance = VK_NULL_HANDLE;
+  VkPhysicalDevice physical_device = VK_NULL_HANDLE;
+  VkDevice device = VK_NULL_HANDLE;
+  std::uint32_t queue_family = 0;
+  std::uint32_t queue_index = 0;
+  bool storage_buffer_16bit_access = false;  // VkPhysicalDevice16BitStorageFeatures, enabled
+  bool storage_buffer_array_dynamic_indexing = false;  // VkPhysicalDeviceFeatures, enabled
+};
+
 class Context {
  public:
   explicit Context(const ContextOptions& options = ContextOptions::from_environment());
+  // On the app's own instance, device and queue (ExternalVulkan); `options.device` and
+  // `options.validation` do not apply (the app chose its device and layers). Throws GpuError
+  // naming what is missing (a null handle, a queue family without compute, Vulkan < 1.1).
+  explicit Context(const ExternalVulkan& external, const ContextOptions& options = {});
   ~Context();
+  // True for a context made from ExternalVulkan: its instance and device are the app's.
+  bool external() const { return external_; }
   Context(const Context&) = delete;
   Context& operator=(const Context&) = delete;
 
@@ -134,6 +157,8 @@ class Context {
   void submit(vk::CommandBuffer commands, vk::Fence fence) const;
 
  private:
+  void release_external() noexcept;  // an ExternalVulkan context's: destroys only what it made
+
   struct Messages {
     std::mutex mutex;
     std::vector<std::string> list;
@@ -144,6 +169,7 @@ class Context {
   };
 
   bool validation_ = false;
+  bool external_ = false;
   std::unique_ptr<Messages> messages_;
   std::unique_ptr<Locks> locks_ = std::make_unique<Locks>();
   vk::raii::Context context_;

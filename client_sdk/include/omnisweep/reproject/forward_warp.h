@@ -98,6 +98,8 @@ class ForwardWarper {
 
   // Target width x height per layer; bits of float distances, 0xffffffff where there is none.
   const gpu::Buffer& result() const;
+  // The packed RGBA8 colour of layer 0 (WarpOptions::color), after the last record.
+  const gpu::Buffer& color_result() const;
   // The result of `layer` as distances, 0 where there is none.
   FloatImage download(int layer = 0) const;
   // The colour after record_colour, black where nothing could be filled.

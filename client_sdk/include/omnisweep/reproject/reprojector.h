@@ -19,6 +19,7 @@
 #include <cstdint>
 #include <map>
 #include <optional>
+#include <utility>
 
 #include "omnisweep/camera/pinhole_camera.h"
 #include "omnisweep/geometry/rigid3.h"
@@ -51,6 +52,19 @@ struct View {
   int inpaint_passes = 0;  // distance inpainting passes run for this pose
 };
 
+// Buffers of the context's device (an app's own, with gpu::ExternalVulkan) that the *_into
+// renders fill without a round trip through the host: `color` width x height uint32 texels,
+// RGBA8 with R in the low byte (A = 255 where colour was filled), `distance` width x height
+// float32 metres from the view's centre (NaN, all bits set, where nothing could be filled).
+// Each needs VK_BUFFER_USAGE_TRANSFER_DST_BIT and at least 4 * width * height bytes from
+// `offset`; either may be VK_NULL_HANDLE. When the call returns the copies have completed.
+struct ViewBuffers {
+  VkBuffer color = VK_NULL_HANDLE;
+  VkDeviceSize color_offset = 0;
+  VkBuffer distance = VK_NULL_HANDLE;
+  VkDeviceSize distance_offset = 0;
+};
+
 // The six faces of a cube map, in this order; each is a 90-degree pinhole view.
 enum class CubeFace { kRight, kLeft, kDown, kUp, kFront, kBack };
 // view_from_face: the rotation of a face's camera within the view (x right, y down, z forward:
@@ -78,12 +92,22 @@ class Reprojector {
   View render_pinhole(const Rigid3d& rig_from_view, const PinholeCamera<double>& camera, int width,
                       int height);
   std::array<View, 6> render_cube_map(const Rigid3d& rig_from_view, int face_size);
+  // The same views written into the app's buffers (ViewBuffers); return the inpainting passes.
+  int render_panorama_into(const Rigid3d& rig_from_view, int width, int height,
+                           const ViewBuffers& out);
+  int render_pinhole_into(const Rigid3d& rig_from_view, const PinholeCamera<double>& camera,
+                          int width, int height, const ViewBuffers& out);
 
   // GPU milliseconds of the last render (0 where the device has no timestamps).
   double last_gpu_ms() const { return last_gpu_ms_; }
 
  private:
   View render(const GpuCamera& target, int slot, double pixels_per_radian);
+  // Warps, inpaints and samples colour for `target`; returns the warper holding the result and
+  // the distance inpainting passes run.
+  std::pair<ForwardWarper*, int> render_on_gpu(const GpuCamera& target, int slot,
+                                               double pixels_per_radian);
+  int copy_into(const std::pair<ForwardWarper*, int>& rendered, const ViewBuffers& out);
 
   gpu::Context* context_;
   ReprojectorOptions options_;

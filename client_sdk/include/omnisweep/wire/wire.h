@@ -3,7 +3,6 @@
 #pragma once
 
 #include <cstdint>
-#include <optional>
 #include <span>
 #include <stdexcept>
 #include <string>
@@ -11,6 +10,7 @@
 
 #include "omnisweep/codec/codec.h"
 #include "omnisweep/rig/rig.h"
+#include "omnisweep/wire/server_status.h"
 #include "omnisweep_msgs.h"
 
 namespace omnisweep::wire {
@@ -20,20 +20,8 @@ class WireError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-// The server's state, as its status messages carry it (ServerStatus.state, docs/wire-format.md).
-enum class ServerState {
-  kStarting,       // no frame published yet
-  kRunning,        // publishing
-  kSourceStalled,  // the source's cameras stopped delivering; the server waits for them
-  kSourceEnded,    // a recording source reached its end
-  kStopping,       // shutting down
-  kFailed,         // a stage failed; the status's error says which and why
-};
-// The state's text on the wire: "starting", "running", "source stalled", "source ended",
-// "stopping", "failed".
-std::string_view to_string(ServerState state);
-// The state a status's text names; nullopt for text this SDK does not know (a newer server).
-std::optional<ServerState> parse_server_state(std::string_view text);
+// The status as plain values (server_status.h); throws nothing (an unknown state stays text).
+StatusReport from_message(const msg::ServerStatus& status);
 
 msg::CameraCalibration to_message(const RigCamera& camera);
 msg::DistanceCodecParams to_message(const codec::DistanceParams& params);
