@@ -23,7 +23,7 @@ std::vector<const Rgb8Image*> pointers(const std::vector<Rgb8Image>& images);
 std::vector<const FloatImage*> pointers(const std::vector<FloatImage>& images);
 
 // The reference cameras' images (taken from `images`, which keeps the others) at their size in
-// `colour_rig`, resized by area where they differ: what the stitcher samples colour from.
+// `color_rig`, resized by area where they differ: what the stitcher samples colour from.
 std::vector<Rgb8Image> reference_color_images(std::vector<Rgb8Image>& images, const Rig& color_rig,
                                               const std::vector<int>& references);
 

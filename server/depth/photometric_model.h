@@ -75,7 +75,7 @@ class PhotometricCorrector {
   PhotometricCorrector(const Rig& matching_rig,
                        const std::vector<std::optional<Gray8Image>>& usable, const Rig& color_rig,
                        std::vector<int> references, int refresh_every = 1);
-  // `matching`: every camera; `colour`: the references, at the colour rig's sizes.
+  // `matching`: every camera; `color`: the references, at the colour rig's sizes.
   const PhotometryFit& correct(std::vector<Rgb8Image>& matching, std::vector<Rgb8Image>& color);
   const PhotometryFit& last() const { return last_; }
 

@@ -17,7 +17,7 @@ class GpuFrame {
   // Both must outlive this, and be made for the same references.
   GpuFrame(gpu::Context& context, depth::DepthEstimator& estimator, stitch::Stitcher& stitcher);
 
-  // `matching`: every camera at the matching resolution; `colour`: the references at the colour
+  // `matching`: every camera at the matching resolution; `color`: the references at the colour
   // resolution. The panorama's stage_ms holds the GPU time of every stage, depth's included.
   stitch::Panorama run(const std::vector<const Rgb8Image*>& matching,
                        const std::vector<const Rgb8Image*>& color);

@@ -45,7 +45,7 @@ struct Panorama {
 
 class Stitcher {
  public:
-  // `matching_rig`: the calibration at the resolution of the distance maps; `colour_rig`: at
+  // `matching_rig`: the calibration at the resolution of the distance maps; `color_rig`: at
   // the resolution of the colour images (may be higher); `usable` per camera at the matching
   // resolution (or empty).
   Stitcher(gpu::Context& context, const Rig& matching_rig, const Rig& color_rig,
@@ -61,7 +61,7 @@ class Stitcher {
                   const std::vector<const FloatImage*>& confidence = {});
 
   // The same on distance maps already on the GPU (DepthEstimator::distance_buffer: reference k's
-  // map at float k x width x height), in a submission the caller owns: upload_colour, record
+  // map at float k x width x height), in a submission the caller owns: upload_color, record
   // into `seq` after what writes `distance`, submit, then download. With the depth estimator
   // recorded first, a frame is one submission from the camera images to the panorama: no host
   // round trip between them. `distance` (and `confidence`, laid out the same way, or null) must

@@ -34,7 +34,7 @@ struct TemporalState {
 };
 
 // One frame through the filter, in place: `distance` (metres, 0 = none) becomes the filtered
-// distance; `colour` is the frame's colour panorama. Float arithmetic in the kernel's order.
+// distance; `color` is the frame's colour panorama. Float arithmetic in the kernel's order.
 void temporal_filter_cpu(TemporalState& state, FloatImage& distance, const Rgb8Image& color,
                          const TemporalOptions& options);
 
@@ -42,7 +42,7 @@ class TemporalFilter {
  public:
   TemporalFilter(gpu::Context& context, int width, int height, const TemporalOptions& options);
 
-  // Records the filter into `seq` (after what writes `distance` and `colour`, panorama-sized
+  // Records the filter into `seq` (after what writes `distance` and `color`, panorama-sized
   // floats and packed RGB): `distance` is filtered in place.
   void record(gpu::Sequence& seq, gpu::Buffer& distance, const gpu::Buffer& color);
   // The next frame starts the filter again everywhere.

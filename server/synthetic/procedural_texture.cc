@@ -131,7 +131,7 @@ Eigen::Vector3f albedo(const Material& m, const Eigen::Vector3f& p, const Eigen:
       return mix(m.color_a, m.color_b, lerp(0.5f, band, w)) * (0.85f + 0.3f * detail);
     }
     case Pattern::kBlotches: {
-      // Large regions (about 3 scales across): plain colour_a, or noise between a and b.
+      // Large regions (about 3 scales across): plain color_a, or noise between a and b.
       const float region = value_noise(p / (m.scale * 3.0f), m.seed + 101);
       const float textured = smoothstep(0.45f, 0.55f, region);
       const float noise = contrast(filtered_fbm(p, m.scale * 0.5f, footprint, m.seed));

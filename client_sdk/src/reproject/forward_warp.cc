@@ -257,7 +257,7 @@ int ForwardWarper::inpaint_until_filled(gpu::Sequence& seq, int max_passes, int 
 
 void ForwardWarper::record_color_sample(gpu::Sequence& seq, const gpu::Buffer& distance,
                                         const gpu::Buffer& source_color) {
-  if (!options_.color) throw std::logic_error("forward warp: colour needs WarpOptions::colour");
+  if (!options_.color) throw std::logic_error("forward warp: colour needs WarpOptions::color");
   if (source_color.size() < pixels(source()) * 4 || distance.size() < pixels(source()) * 4)
     throw std::invalid_argument("forward warp: a source buffer holds fewer than its pixels");
   const float tolerance = float(options_.occlusion_tolerance);
@@ -279,7 +279,7 @@ void ForwardWarper::record_color(gpu::Sequence& seq, const gpu::Buffer& distance
 
 int ForwardWarper::inpaint_color_until_filled(gpu::Sequence& seq, int max_passes, int batch,
                                               double* gpu_ms) {
-  if (!options_.color) throw std::logic_error("forward warp: colour needs WarpOptions::colour");
+  if (!options_.color) throw std::logic_error("forward warp: colour needs WarpOptions::color");
   return run_until_filled(seq, *inpaint_color_, color_buffers_.data(), max_passes, batch, gpu_ms,
                           &color_result_);
 }
@@ -305,7 +305,7 @@ FloatImage ForwardWarper::download(int layer) const {
 
 Rgb8Image ForwardWarper::download_color() const {
   if (!options_.color)
-    throw std::logic_error("forward warp: download_colour needs WarpOptions::colour");
+    throw std::logic_error("forward warp: download_color needs WarpOptions::color");
   const std::vector<std::uint32_t> packed = color_result().download<std::uint32_t>();
   Rgb8Image out(int(target().width), int(target().height), 3, 0);
   std::uint8_t* rgb = out.data();

@@ -44,9 +44,9 @@ struct WarpOptions {
   // 1: each source pixel lands on its nearest target pixel (the paper). Larger: it covers its
   // footprint in the target, up to this many pixels across (views that magnify the source).
   double max_splat = 1.0;
-  // Allocate what record_colour needs.
+  // Allocate what record_color needs.
   bool color = false;
-  // record_colour: a point is hidden from the source when the source's distance map holds a
+  // record_color: a point is hidden from the source when the source's distance map holds a
   // value nearer than (1 - occlusion_tolerance) times the point's distance.
   double occlusion_tolerance = 0.1;
   // Throws std::invalid_argument naming the field, its value and what is allowed.
@@ -66,7 +66,7 @@ class ForwardWarper {
   ForwardWarper(gpu::Context& context, const GpuCamera& source, const GpuCamera& target,
                 const WarpOptions& options);
   // Several layers, all sources of one size and all targets of one size; not with
-  // WarpOptions::colour.
+  // WarpOptions::color.
   ForwardWarper(gpu::Context& context, std::vector<WarpLayer> layers, const WarpOptions& options);
 
   // A new target camera or pose of the same size (a moving viewer), for a warper of one layer.
@@ -78,10 +78,10 @@ class ForwardWarper {
   // Records: clear the z-buffer, warp `distance` (source width x height floats per layer, layer
   // after layer; <= 0 = none), inpaint. The result is valid after the sequence has run.
   void record(gpu::Sequence& seq, const gpu::Buffer& distance);
-  // Records, after record(): the colour of every target pixel sampled from `source_colour`
+  // Records, after record(): the colour of every target pixel sampled from `source_color`
   // (source pixels packed as pack_rgba8 makes them) where the source sees that point, then the
   // rest (disocclusions) inpainted from the background side. `distance` is the map given to
-  // record(). Needs WarpOptions::colour.
+  // record(). Needs WarpOptions::color.
   void record_color(gpu::Sequence& seq, const gpu::Buffer& distance,
                     const gpu::Buffer& source_color);
 
@@ -89,7 +89,7 @@ class ForwardWarper {
   // inpaint_until_filled runs passes in batches of `batch`, submitting `seq` (with what was
   // recorded before) after each batch, until a pass fills nothing (the fixed point) or
   // `max_passes` ran. Returns the passes run; adds the GPU milliseconds to *gpu_ms. The same for
-  // colour: record_colour_sample, then inpaint_colour_until_filled.
+  // colour: record_color_sample, then inpaint_color_until_filled.
   void record_warp(gpu::Sequence& seq, const gpu::Buffer& distance);
   int inpaint_until_filled(gpu::Sequence& seq, int max_passes, int batch, double* gpu_ms);
   void record_color_sample(gpu::Sequence& seq, const gpu::Buffer& distance,
@@ -102,7 +102,7 @@ class ForwardWarper {
   const gpu::Buffer& color_result() const;
   // The result of `layer` as distances, 0 where there is none.
   FloatImage download(int layer = 0) const;
-  // The colour after record_colour, black where nothing could be filled.
+  // The colour after record_color, black where nothing could be filled.
   Rgb8Image download_color() const;
 
   // Per target pixel, its two background-side neighbours and their weights (struct Direction in
@@ -133,11 +133,11 @@ class ForwardWarper {
   gpu::Buffer buffers_[2];   // ping-pong z-buffers
   gpu::Buffer filled_;       // per pass: did it fill anything
   int result_ = 0;           // which of buffers_ holds the distance result
-  int color_result_ = 0;     // which of colour_buffers_ holds the colour result
+  int color_result_ = 0;     // which of color_buffers_ holds the colour result
   std::uint32_t tile_ = 32;  // inpainting tile side (inpaint_tile.glsl), to fit shared memory
   gpu::Buffer tile_status_;  // per tile and layer, twice: one dispatch writes what the next reads
-  std::vector<gpu::Buffer> color_buffers_;  // ping-pong colours (WarpOptions::colour only)
-  // warp_, directions_kernel_ and sample_colour_ are compiled for the source's and the target's
+  std::vector<gpu::Buffer> color_buffers_;  // ping-pong colours (WarpOptions::color only)
+  // warp_, directions_kernel_ and sample_color_ are compiled for the source's and the target's
   // camera models (model_constants), and again when set_target changes the target's model.
   gpu::Kernel warp_;
   gpu::Kernel directions_kernel_;

@@ -4,7 +4,7 @@
 // from the panorama where it sees the point, and disocclusions fill from the background side.
 //
 //   Reprojector reprojector(context);
-//   reprojector.set_panorama(frame.colour, frame.distance, frame.viewpoint);
+//   reprojector.set_panorama(frame.color, frame.distance, frame.viewpoint);
 //   Rigid3d rig_from_eye(Eigen::Quaterniond::Identity(), {0.03, 0, 0});
 //   View eye = reprojector.render_pinhole(rig_from_eye, pinhole_for_fov(1024, 1024, 90), 1024,
 //   1024);
