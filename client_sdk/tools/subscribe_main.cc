@@ -161,10 +161,7 @@ int run(int argc, char** argv) {
     std::vector<double> l = window.latency_ms;
     std::sort(l.begin(), l.end());
     if (!quiet && decoded == 0 && subscriber.matched_servers() > 0 && !status_only) {
-      const auto status = subscriber.status();
-      std::printf("%s\n", tools::waiting_line(status ? std::optional(wire::from_message(*status))
-                                                     : std::nullopt)
-                              .c_str());
+      std::printf("%s\n", tools::waiting_line(wire::from_message(subscriber.status())).c_str());
       std::fflush(stdout);
     } else if (!quiet) {
       std::printf(

@@ -221,9 +221,7 @@ std::shared_ptr<const StreamInfo> RgbdSubscriber::stream_info() const {
 }
 
 std::optional<wire::StatusReport> RgbdSubscriber::status() const {
-  const std::optional<msg::ServerStatus> message = impl_->subscriber_->status();
-  if (!message) return std::nullopt;
-  return wire::from_message(*message);
+  return wire::from_message(impl_->subscriber_->status());
 }
 
 int RgbdSubscriber::matched_servers() const { return impl_->subscriber_->matched_servers(); }

@@ -140,6 +140,11 @@ StatusReport from_message(const msg::ServerStatus& status) {
   return r;
 }
 
+std::optional<StatusReport> from_message(const std::optional<msg::ServerStatus>& status) {
+  if (!status) return std::nullopt;
+  return from_message(*status);
+}
+
 msg::Payload make_payload(std::string_view codec_name, const codec::Bytes& data) {
   msg::Payload p;
   p.codec(std::string(codec_name));

@@ -22,6 +22,8 @@ class WireError : public std::runtime_error {
 
 // The status as plain values (server_status.h); throws nothing (an unknown state stays text).
 StatusReport from_message(const msg::ServerStatus& status);
+// The same for a status that may not have arrived yet (a subscriber's newest, or none).
+std::optional<StatusReport> from_message(const std::optional<msg::ServerStatus>& status);
 
 msg::CameraCalibration to_message(const RigCamera& camera);
 msg::DistanceCodecParams to_message(const codec::DistanceParams& params);
