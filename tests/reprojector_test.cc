@@ -192,8 +192,7 @@ TEST_F(ReprojectorTest, CubeMapFacesAgreeWithThePanorama) {
 TEST_F(ReprojectorTest, RejectsBadInput) {
   Reprojector r(context());
   EXPECT_THROW(r.render_panorama(Rigid3d(), 64, 32), std::logic_error);
-  EXPECT_THROW(r.set_panorama(Rgb8Image(64, 32, 3), FloatImage(32, 16, 1), {}),
-               std::invalid_argument);
+  EXPECT_THROW(r.set_panorama(Rgb8Image(64, 32), FloatImage(32, 16), {}), std::invalid_argument);
   EXPECT_THROW(pinhole_for_fov(64, 64, 180), std::invalid_argument);
   EXPECT_THROW(Reprojector(context(), {.min_distance = 2, .max_distance = 1}),
                std::invalid_argument);

@@ -44,7 +44,8 @@ struct ViewOptions {
 };
 
 // Writes through a temporary name, so a program watching the folder never reads half a file.
-void write_png_atomically(const fs::path& path, const Image<std::uint8_t>& image) {
+template <typename View>
+void write_png_atomically(const fs::path& path, const View& image) {
   const fs::path tmp = path.string() + ".tmp.png";
   write_png(tmp, image, 1);
   fs::rename(tmp, path);

@@ -80,7 +80,7 @@ class VideoSource final : public FrameSource {
                             std::to_string(cam.height));
         }
         if (bgr.channels() == 1) cv::cvtColor(bgr, bgr, cv::COLOR_GRAY2BGR);
-        Rgb8Image rgb(bgr.cols, bgr.rows, 3);
+        Rgb8Image rgb(bgr.cols, bgr.rows);
         cv::Mat view(bgr.rows, bgr.cols, CV_8UC3, rgb.data());
         cv::cvtColor(bgr, view, cv::COLOR_BGR2RGB);
         last_[i] = std::move(rgb);

@@ -92,7 +92,7 @@ TEST_F(DepthKernelTest, SweepCostEqualsCpu) {
       std::cout << "the device stores no 16-bit floats: 16-bit costs not checked\n";
       continue;
     }
-    const auto images = scene.image_pointers();
+    const auto images = scene.image_views();
     for (std::size_t slot = 0; slot < 2; ++slot) {
       const std::vector<float> gpu = estimator.cost_volume(images, int(slot), false);
       const Image<std::int32_t> selected = estimator.selection(int(slot));
@@ -133,7 +133,7 @@ TEST_F(DepthKernelTest, YCbCrGuideEqualsCpu) {
   std::mt19937 rng(5);
   std::uniform_int_distribution<int> byte(0, 255);
   const int w = 33, h = 17;
-  Rgb8Image rgb(w, h, 3);
+  Rgb8Image rgb(w, h);
   for (auto& v : rgb.pixels()) v = std::uint8_t(byte(rng));
   rgb(0, 0, 0) = rgb(0, 0, 1) = rgb(0, 0, 2) = 255;  // clamps
   std::vector<std::uint32_t> packed(std::size_t(w) * h);

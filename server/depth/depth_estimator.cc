@@ -188,7 +188,7 @@ DepthEstimator::DepthEstimator(gpu::Context& context, const Rig& rig,
 
 std::uint64_t DepthEstimator::gpu_bytes() const { return gpu_bytes_; }
 
-void DepthEstimator::upload_images(const std::vector<const Rgb8Image*>& images) {
+void DepthEstimator::upload_images(std::span<const Rgb8View> images) {
   if (images.size() != std::size_t(rig_.num_cameras())) {
     throw std::invalid_argument("expected " + std::to_string(rig_.num_cameras()) + " images, got " +
                                 std::to_string(images.size()));
@@ -196,13 +196,12 @@ void DepthEstimator::upload_images(const std::vector<const Rgb8Image*>& images) 
   const std::size_t pixels = std::size_t(width_) * height_;
   std::vector<std::uint32_t> packed(pixels * images.size());
   for (std::size_t c = 0; c < images.size(); ++c) {
-    const Rgb8Image& im = *images[c];
-    if (im.width() != width_ || im.height() != height_ || im.channels() != 3) {
+    const Rgb8View& im = images[c];
+    if (im.width() != width_ || im.height() != height_) {
       throw std::invalid_argument("image of camera " + std::to_string(c) + " is " +
                                   std::to_string(im.width()) + "x" + std::to_string(im.height()) +
-                                  "x" + std::to_string(im.channels()) +
-                                  ", expected RGB at the matching resolution " +
-                                  std::to_string(width_) + "x" + std::to_string(height_));
+                                  ", expected the matching resolution " + std::to_string(width_) +
+                                  "x" + std::to_string(height_));
     }
     reproject::pack_rgba8(im, std::span(packed).subspan(c * pixels, pixels));
   }
@@ -308,7 +307,7 @@ std::vector<std::uint32_t> DepthEstimator::matching_features(int camera) const {
 
 const gpu::Buffer& DepthEstimator::distance_buffer() const { return distances_.chunks()[0]; }
 
-DepthResult DepthEstimator::estimate(const std::vector<const Rgb8Image*>& images) {
+DepthResult DepthEstimator::estimate(std::span<const Rgb8View> images) {
   upload_images(images);
   sequence_.begin();
   record(sequence_);
@@ -316,10 +315,10 @@ DepthResult DepthEstimator::estimate(const std::vector<const Rgb8Image*>& images
   DepthResult result;
   const std::size_t bytes = std::size_t(width_) * height_ * sizeof(float);
   for (std::uint32_t slot = 0; slot < slots(); ++slot) {
-    FloatImage map(width_, height_, 1);
+    FloatImage map(width_, height_);
     distance_buffer().download(map.data(), bytes, slot * bytes);
     result.distance.push_back(std::move(map));
-    FloatImage confidence(width_, height_, 1);
+    FloatImage confidence(width_, height_);
     confidences_.download(confidence.data(), bytes, slot * bytes);
     result.confidence.push_back(std::move(confidence));
   }
@@ -329,7 +328,7 @@ DepthResult DepthEstimator::estimate(const std::vector<const Rgb8Image*>& images
 
 Image<std::int32_t> DepthEstimator::selection(int slot) const {
   if (slot < 0 || slot >= int(slots())) throw std::out_of_range("no such reference slot");
-  Image<std::int32_t> out(width_, height_, 1);
+  Image<std::int32_t> out(width_, height_);
   const std::size_t bytes = out.size() * sizeof(std::int32_t);
   selections_.download(out.data(), bytes, std::size_t(slot) * bytes);
   return out;
@@ -337,14 +336,14 @@ Image<std::int32_t> DepthEstimator::selection(int slot) const {
 
 Image<std::int32_t> DepthEstimator::second_selection(int slot) const {
   if (slot < 0 || slot >= int(slots())) throw std::out_of_range("no such reference slot");
-  Image<std::int32_t> out(width_, height_, 1);
+  Image<std::int32_t> out(width_, height_);
   const std::size_t bytes = out.size() * sizeof(std::int32_t);
   selections_.download(out.data(), bytes, (std::size_t(slots()) + slot) * bytes);
   return out;
 }
 
-std::vector<float> DepthEstimator::cost_volume(const std::vector<const Rgb8Image*>& images,
-                                               int slot, bool filtered) {
+std::vector<float> DepthEstimator::cost_volume(std::span<const Rgb8View> images, int slot,
+                                               bool filtered) {
   if (slot < 0 || slot >= int(slots())) throw std::out_of_range("no such reference slot");
   upload_images(images);
   const int first = slot / group_size() * group_size();

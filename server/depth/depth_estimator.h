@@ -39,14 +39,14 @@ class DepthEstimator {
                  const std::vector<std::optional<Gray8Image>>& usable, const DepthOptions& options);
 
   // Images: one RGB image per camera at the matching resolution.
-  DepthResult estimate(const std::vector<const Rgb8Image*>& images);
+  DepthResult estimate(std::span<const Rgb8View> images);
 
   // The same without leaving the GPU, for a caller that records what follows into the same
   // submission (the stitcher): upload the images, record depth into `seq` (between its begin()
   // and submit), and the distance maps (matching width x height floats, metres) are in
   // distance_buffer() once `seq` has run, reference slot k's at float k x width x height, and
   // their confidences likewise in confidence_buffer().
-  void upload(const std::vector<const Rgb8Image*>& images) { upload_images(images); }
+  void upload(std::span<const Rgb8View> images) { upload_images(images); }
   void record(gpu::Sequence& seq);
   const gpu::Buffer& distance_buffer() const;
   const gpu::Buffer& confidence_buffer() const { return confidences_; }
@@ -57,8 +57,7 @@ class DepthEstimator {
   Image<std::int32_t> selection(int slot) const;
   // The second camera of each pixel (DepthOptions::match_cameras = 2; -1 = none).
   Image<std::int32_t> second_selection(int slot) const;
-  std::vector<float> cost_volume(const std::vector<const Rgb8Image*>& images, int slot,
-                                 bool filtered);
+  std::vector<float> cost_volume(std::span<const Rgb8View> images, int slot, bool filtered);
   // With a robust cost: camera `camera`'s matching features, as the last cost_volume() or
   // estimate() computed them (width x height, packed as matching_features_cpu packs them).
   std::vector<std::uint32_t> matching_features(int camera) const;
@@ -71,7 +70,7 @@ class DepthEstimator {
   std::uint64_t gpu_bytes() const;
 
  private:
-  void upload_images(const std::vector<const Rgb8Image*>& images);
+  void upload_images(std::span<const Rgb8View> images);
   // Sweep and filter of the group of references from slot `first` (group_size() of them, fewer
   // at the end); `finish` ends in the distance maps, otherwise the volume is left behind.
   void record_group(gpu::Sequence& seq, int first, bool filter, bool finish);

@@ -62,7 +62,7 @@ TEST_F(DepthEstimatorTest, RawCostIsMinimalAtTheTrueCandidateOnTexturedPixels) {
   const int n = options.num_candidates;
   for (std::size_t slot = 0; slot < 2; ++slot) {
     const int ref = options.references[slot];
-    const std::vector<float> cost = estimator.cost_volume(scene.image_pointers(), int(slot), false);
+    const std::vector<float> cost = estimator.cost_volume(scene.image_views(), int(slot), false);
     const Image<std::int32_t> selected = estimator.selection(int(slot));
     const FloatImage& gt = scene.inverse_gt[ref];
     long counted = 0, correct = 0, strict = 0;
@@ -114,8 +114,8 @@ TEST_F(DepthEstimatorTest, WinnerTakesAllEqualsCpu) {
   options.post_filter = false;
   options.half_costs = false;
   DepthEstimator estimator(context(), scene.rig.rig(), scene.usable, options);
-  const auto filtered = estimator.cost_volume(scene.image_pointers(), 0, true);
-  const DepthResult result = estimator.estimate(scene.image_pointers());
+  const auto filtered = estimator.cost_volume(scene.image_views(), 0, true);
+  const DepthResult result = estimator.estimate(scene.image_views());
   double worst = 0;
   for (int p = 0; p < 96 * 96; ++p) {
     const float cpu =
@@ -172,7 +172,7 @@ TEST_F(DepthEstimatorTest, FisheyeDistanceMatchesGroundTruth) {
     DepthOptions options;
     options.matching_width = options.matching_height = 512;
     DepthEstimator estimator(context(), scene.rig.rig(), scene.usable, options);
-    const DepthResult result = estimator.estimate(scene.image_pointers());
+    const DepthResult result = estimator.estimate(scene.image_views());
     ASSERT_EQ(result.distance.size(), 2u);
     for (std::size_t slot = 0; slot < 2; ++slot) {
       const int ref = options.references[slot];
@@ -204,7 +204,7 @@ TEST_F(DepthEstimatorTest, HalfCostsKeepTheAccuracy) {
       options.half_costs = half;
       DepthEstimator estimator(context(), scene.rig.rig(), scene.usable, options);
       half_used = estimator.volume_layout().half;
-      results.push_back(estimator.estimate(scene.image_pointers()));
+      results.push_back(estimator.estimate(scene.image_views()));
     }
     if (!half_used) GTEST_SKIP() << "the device stores no 16-bit floats";
     for (std::size_t slot = 0; slot < 2; ++slot) {
@@ -244,7 +244,7 @@ TEST_F(DepthEstimatorTest, GroupsOfReferencesGiveTheSameMaps) {
     options.max_group = group;
     DepthEstimator estimator(context(), scene.rig.rig(), scene.usable, options);
     EXPECT_EQ(estimator.group_size(), group == 0 ? 4 : group);
-    results.push_back(estimator.estimate(scene.image_pointers()));
+    results.push_back(estimator.estimate(scene.image_views()));
     ASSERT_EQ(results.back().distance.size(), 4u);
   }
   for (std::size_t r = 1; r < results.size(); ++r) {
@@ -284,7 +284,7 @@ TEST_F(DepthEstimatorTest, RejectsBadInput) {
                std::invalid_argument);
   options.matching_width = 64;
   DepthEstimator estimator(context(), scene.rig.rig(), scene.usable, options);
-  std::vector<const Rgb8Image*> three = scene.image_pointers();
+  std::vector<Rgb8View> three = scene.image_views();
   three.pop_back();
   EXPECT_THROW(estimator.estimate(three), std::invalid_argument);
 }

@@ -6,11 +6,7 @@
 
 namespace omnisweep::depth::fixtures {
 
-std::vector<const Rgb8Image*> SyntheticDepthCase::image_pointers() const {
-  std::vector<const Rgb8Image*> out;
-  for (const auto& im : images) out.push_back(&im);
-  return out;
-}
+std::vector<Rgb8View> SyntheticDepthCase::image_views() const { return views(images); }
 
 SyntheticDepthCase render_depth_case(int size, int frame, std::uint64_t seed,
                                      const synthetic::PhotometricOptions& photometric) {

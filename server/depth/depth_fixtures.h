@@ -17,7 +17,7 @@ struct SyntheticDepthCase {
   std::vector<FloatImage> inverse_gt;             // per camera, m^-1 (0 outside the lens)
   std::vector<std::optional<Gray8Image>> usable;  // lens masks
 
-  std::vector<const Rgb8Image*> image_pointers() const;
+  std::vector<Rgb8View> image_views() const;
 };
 
 // `photometric`: the cameras' gains, casts and vignetting (none by default).

@@ -34,18 +34,6 @@ std::vector<std::optional<Gray8Image>> matching_masks(
   return out;
 }
 
-std::vector<const Rgb8Image*> pointers(const std::vector<Rgb8Image>& images) {
-  std::vector<const Rgb8Image*> out;
-  for (const auto& im : images) out.push_back(&im);
-  return out;
-}
-
-std::vector<const FloatImage*> pointers(const std::vector<FloatImage>& images) {
-  std::vector<const FloatImage*> out;
-  for (const auto& im : images) out.push_back(&im);
-  return out;
-}
-
 std::vector<Rgb8Image> reference_color_images(std::vector<Rgb8Image>& images, const Rig& color_rig,
                                               const std::vector<int>& references) {
   std::vector<Rgb8Image> out;

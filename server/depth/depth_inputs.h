@@ -19,8 +19,6 @@ std::vector<Rgb8Image> matching_images(const std::vector<Rgb8Image>& images,
 // Masks (at any resolution; nullopt = all usable) as usable masks at the matching resolution.
 std::vector<std::optional<Gray8Image>> matching_masks(
     const std::vector<std::optional<Gray8Image>>& masks, const DepthOptions& options);
-std::vector<const Rgb8Image*> pointers(const std::vector<Rgb8Image>& images);
-std::vector<const FloatImage*> pointers(const std::vector<FloatImage>& images);
 
 // The reference cameras' images (taken from `images`, which keeps the others) at their size in
 // `color_rig`, resized by area where they differ: what the stitcher samples colour from.

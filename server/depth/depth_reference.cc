@@ -20,7 +20,7 @@ bool usable_at(const std::vector<std::optional<Gray8Image>>& usable, int camera,
   return (*usable[camera])(int(fx), int(fy)) != 0;
 }
 
-std::array<float, 3> rgb_at(const Rgb8Image& im, int x, int y) {
+std::array<float, 3> rgb_at(Rgb8View im, int x, int y) {
   if (x < 0 || y < 0 || x >= im.width() || y >= im.height()) return {0, 0, 0};
   return {float(im(x, y, 0)), float(im(x, y, 1)), float(im(x, y, 2))};
 }
@@ -49,9 +49,9 @@ SelectionReference select_cameras_cpu(const Rig& rig, int reference,
                                       const std::vector<std::optional<Gray8Image>>& usable,
                                       double d_min, double d_max, double second_power) {
   const RigCamera& ref = rig.cameras[reference];
-  SelectionReference out{Image<std::int32_t>(ref.width, ref.height, 1, -1),
-                         Image<std::int32_t>(ref.width, ref.height, 1, -1),
-                         Image<std::uint8_t>(ref.width, ref.height, 1, 0)};
+  SelectionReference out{Image<std::int32_t>::filled(ref.width, ref.height, -1),
+                         Image<std::int32_t>::filled(ref.width, ref.height, -1),
+                         Gray8Image(ref.width, ref.height)};
   for (int y = 0; y < ref.height; ++y) {
     for (int x = 0; x < ref.width; ++x) {
       bool fragile = false;
@@ -111,13 +111,13 @@ SelectionReference select_cameras_cpu(const Rig& rig, int reference,
 }
 
 std::vector<float> sweep_cost_cpu(const Rig& rig, int reference, int selected,
-                                  const std::vector<const Rgb8Image*>& images,
-                                  const DepthOptions& options, int x, int y) {
+                                  std::span<const Rgb8View> images, const DepthOptions& options,
+                                  int x, int y) {
   std::vector<float> costs(options.num_candidates, 0.0f);
   Eigen::Vector3d ray;
   if (selected < 0 || !rig.cameras[reference].model.unproject(Eigen::Vector2d(x, y), &ray))
     return costs;
-  const auto ref_rgb = rgb_at(*images[reference], x, y);
+  const auto ref_rgb = rgb_at(images[reference], x, y);
   const RigCamera& cam = rig.cameras[selected];
   const Rigid3d cam_from_ref = rig.cam_from_cam(selected, reference);
   for (int i = 0; i < options.num_candidates; ++i) {
@@ -128,7 +128,7 @@ std::vector<float> sweep_cost_cpu(const Rig& rig, int reference, int selected,
         uv.x() < cam.width + 1 && uv.y() < cam.height + 1) {
       const int x0 = int(std::floor(uv.x())), y0 = int(std::floor(uv.y()));
       const double tx = uv.x() - x0, ty = uv.y() - y0;
-      const Rgb8Image& im = *images[selected];
+      const Rgb8View& im = images[selected];
       for (int k = 0; k < 3; ++k) {
         const double top = (1 - tx) * rgb_at(im, x0, y0)[k] + tx * rgb_at(im, x0 + 1, y0)[k];
         const double bottom =

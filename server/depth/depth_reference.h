@@ -23,7 +23,7 @@ struct SelectionReference {
   // the longest, a projection within
   // 2e-4 px of a pixel-rounding boundary, a ray within 1e-4 rad of a lens' valid cone); float
   // and double may then legitimately differ.
-  Image<std::uint8_t> fragile;
+  Gray8Image fragile;
 };
 
 // ALGORITHM.md §3 step 2 in double precision; `usable` as for DepthEstimator.
@@ -33,8 +33,8 @@ SelectionReference select_cameras_cpu(const Rig& rig, int reference,
 
 // The N matching costs of reference pixel (x, y) (ALGORITHM.md §3 step 3).
 std::vector<float> sweep_cost_cpu(const Rig& rig, int reference, int selected,
-                                  const std::vector<const Rgb8Image*>& images,
-                                  const DepthOptions& options, int x, int y);
+                                  std::span<const Rgb8View> images, const DepthOptions& options,
+                                  int x, int y);
 
 // The matching features of an image (shaders/matching_features.comp, packed as it packs them):
 // window-normalised colour in the low three bytes, the luminance census in the high byte.

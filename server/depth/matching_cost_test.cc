@@ -32,7 +32,7 @@ TEST_F(MatchingCostTest, FeaturesEqualCpu) {
   options.feature_radius = 16;  // 2 pixels at 128 px
   options.census_radius = 16;   // 2 pixels
   DepthEstimator estimator(context(), scene.rig.rig(), scene.usable, options);
-  estimator.cost_volume(scene.image_pointers(), 0, false);
+  estimator.cost_volume(scene.image_views(), 0, false);
   for (int c = 0; c < 4; ++c) {
     const auto gpu = estimator.matching_features(c);
     const auto cpu = matching_features_cpu(scene.images[c], 2, 2, options.feature_epsilon);
@@ -59,7 +59,7 @@ TEST_F(MatchingCostTest, RobustSweepCostsEqualCpu) {
        {MatchingCost::kNormalised, MatchingCost::kCensus, MatchingCost::kNormalisedCensus}) {
     const DepthOptions options = options_for(cost);
     DepthEstimator estimator(context(), scene.rig.rig(), scene.usable, options);
-    const auto images = scene.image_pointers();
+    const auto images = scene.image_views();
     for (int slot = 0; slot < 2; ++slot) {
       const std::vector<float> gpu = estimator.cost_volume(images, slot, false);
       std::vector<std::vector<std::uint32_t>> features;
@@ -103,12 +103,12 @@ double relative_change_under_gain(gpu::Context& context, MatchingCost cost) {
         for (int k = 0; k < 3; ++k)
           im(x, y, k) = std::uint8_t(std::min(255.0, std::round(im(x, y, k) * gain[k])));
   }
-  std::vector<const Rgb8Image*> pointers;
-  for (const auto& im : changed) pointers.push_back(&im);
+  std::vector<Rgb8View> changed_views;
+  for (const auto& im : changed) changed_views.push_back(im);
   double change = 0, total = 0;
   for (int slot = 0; slot < 2; ++slot) {
-    const auto before = estimator.cost_volume(scene.image_pointers(), slot, false);
-    const auto after = estimator.cost_volume(pointers, slot, false);
+    const auto before = estimator.cost_volume(scene.image_views(), slot, false);
+    const auto after = estimator.cost_volume(changed_views, slot, false);
     for (std::size_t i = 0; i < before.size(); ++i) {
       change += std::abs(after[i] - before[i]);
       total += before[i];
@@ -139,7 +139,7 @@ TEST_F(MatchingCostTest, PhotometricConditionsAreSurvivedByNadAndByTheCorrection
   const auto changed =
       fixtures::render_depth_case(size, 0, 1, synthetic::PhotometricOptions::realistic());
   auto mae = [&](const fixtures::SyntheticDepthCase& scene, MatchingCost cost,
-                 const std::vector<const Rgb8Image*>& images) {
+                 std::span<const Rgb8View> images) {
     DepthOptions options;
     options.matching_width = options.matching_height = size;
     options.cost = cost;
@@ -158,15 +158,15 @@ TEST_F(MatchingCostTest, PhotometricConditionsAreSurvivedByNadAndByTheCorrection
   std::vector<Rgb8Image> corrected;
   for (const auto& im : changed.images) corrected.push_back(im.clone());
   const PhotometryFit fit =
-      estimate_photometry(changed.rig.rig(), changed.image_pointers(), changed.usable);
+      estimate_photometry(changed.rig.rig(), changed.image_views(), changed.usable);
   PhotometricCorrection(changed.rig.rig()).apply(fit, corrected);
-  std::vector<const Rgb8Image*> corrected_pointers;
-  for (const auto& im : corrected) corrected_pointers.push_back(&im);
+  std::vector<Rgb8View> corrected_views;
+  for (const auto& im : corrected) corrected_views.push_back(im);
 
-  const double ad_clean = mae(clean, MatchingCost::kAbsoluteDifference, clean.image_pointers());
-  const double ad = mae(changed, MatchingCost::kAbsoluteDifference, changed.image_pointers());
-  const double nad = mae(changed, MatchingCost::kNormalised, changed.image_pointers());
-  const double ad_corrected = mae(changed, MatchingCost::kAbsoluteDifference, corrected_pointers);
+  const double ad_clean = mae(clean, MatchingCost::kAbsoluteDifference, clean.image_views());
+  const double ad = mae(changed, MatchingCost::kAbsoluteDifference, changed.image_views());
+  const double nad = mae(changed, MatchingCost::kNormalised, changed.image_views());
+  const double ad_corrected = mae(changed, MatchingCost::kAbsoluteDifference, corrected_views);
   std::cout << "fisheye MAE at 256 px: ad " << ad_clean << " clean, " << ad
             << " through the lenses; nad " << nad << "; ad on corrected images " << ad_corrected
             << "\n";

@@ -20,7 +20,7 @@ struct CellImage {
   std::vector<float> usable;  // fraction of the cell's pixels that are usable
 };
 
-CellImage reduce(const Rgb8Image& image, const Gray8Image* mask) {
+CellImage reduce(Rgb8View image, const Gray8Image* mask) {
   CellImage out;
   out.cell = std::max(1, image.width() / 128);
   out.cols = (image.width() + out.cell - 1) / out.cell;
@@ -64,7 +64,7 @@ double CameraPhotometry::vignetting(double theta) const {
   return std::max(0.05, 1.0 + b1 * t2 + b2 * t2 * t2);
 }
 
-PhotometryFit estimate_photometry(const Rig& rig, const std::vector<const Rgb8Image*>& images,
+PhotometryFit estimate_photometry(const Rig& rig, std::span<const Rgb8View> images,
                                   const std::vector<std::optional<Gray8Image>>& usable,
                                   const PhotometryOptions& options) {
   const int n = rig.num_cameras();
@@ -73,12 +73,11 @@ PhotometryFit estimate_photometry(const Rig& rig, const std::vector<const Rgb8Im
   }
   std::vector<CellImage> cells;
   for (int c = 0; c < n; ++c) {
-    if (images[c]->width() != rig.cameras[c].width ||
-        images[c]->height() != rig.cameras[c].height || images[c]->channels() != 3) {
+    if (images[c].width() != rig.cameras[c].width || images[c].height() != rig.cameras[c].height) {
       throw std::invalid_argument("photometry: the image of camera " + std::to_string(c) +
-                                  " is not RGB at its calibrated size");
+                                  " is not at its calibrated size");
     }
-    cells.push_back(reduce(*images[c], usable.empty() || !usable[c] ? nullptr : &*usable[c]));
+    cells.push_back(reduce(images[c], usable.empty() || !usable[c] ? nullptr : &*usable[c]));
   }
   Eigen::Vector3d centre = Eigen::Vector3d::Zero();
   std::vector<Rigid3d> cam_from_rig;
@@ -209,9 +208,9 @@ void PhotometricCorrection::apply(const PhotometryFit& fit, std::vector<Rgb8Imag
     if (c < 0 || c >= int(t2_.size()) || c >= int(fit.cameras.size()))
       throw std::invalid_argument("photometric correction: no camera " + std::to_string(c));
     Rgb8Image& im = images[i];
-    if (im.width() != sizes_[c].first || im.height() != sizes_[c].second || im.channels() != 3) {
+    if (im.width() != sizes_[c].first || im.height() != sizes_[c].second) {
       throw std::invalid_argument("photometric correction: the image of camera " +
-                                  std::to_string(c) + " is not RGB at its calibrated size");
+                                  std::to_string(c) + " is not at its calibrated size");
     }
     const CameraPhotometry& response = fit.cameras[c];
     const std::vector<float>& t2 = t2_[c];
@@ -244,8 +243,8 @@ PhotometricCorrector::PhotometricCorrector(const Rig& matching_rig,
 const PhotometryFit& PhotometricCorrector::correct(std::vector<Rgb8Image>& matching,
                                                    std::vector<Rgb8Image>& color) {
   if (frames_++ % refresh_every_ == 0) {
-    std::vector<const Rgb8Image*> images;
-    for (const auto& im : matching) images.push_back(&im);
+    std::vector<Rgb8View> images;
+    for (const auto& im : matching) images.push_back(im);
     last_ = estimate_photometry(matching_rig_, images, *usable_);
   }
   matching_.apply(last_, matching);

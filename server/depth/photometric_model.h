@@ -45,7 +45,7 @@ struct PhotometryOptions {
 
 // `images` at their cameras' resolution in `rig`; `usable` as for DepthEstimator (any
 // resolution, nullopt = all usable). Throws std::invalid_argument on mismatched inputs.
-PhotometryFit estimate_photometry(const Rig& rig, const std::vector<const Rgb8Image*>& images,
+PhotometryFit estimate_photometry(const Rig& rig, std::span<const Rgb8View> images,
                                   const std::vector<std::optional<Gray8Image>>& usable,
                                   const PhotometryOptions& options = {});
 

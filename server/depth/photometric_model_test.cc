@@ -30,16 +30,9 @@ Case render(const synthetic::PhotometricOptions& photometric, int size = 256) {
   return out;
 }
 
-std::vector<const Rgb8Image*> pointers(const std::vector<Rgb8Image>& images) {
-  std::vector<const Rgb8Image*> out;
-  out.reserve(images.size());
-  for (const auto& im : images) out.push_back(&im);
-  return out;
-}
-
 TEST(PhotometricModel, FindsTheGainsCastsAndVignettingOfTheLenses) {
   const auto c = render(synthetic::PhotometricOptions::realistic());
-  const PhotometryFit fit = estimate_photometry(c.rig.rig(), pointers(c.images), c.masks);
+  const PhotometryFit fit = estimate_photometry(c.rig.rig(), views(c.images), c.masks);
   ASSERT_EQ(fit.cameras.size(), 4u);
   // The truth, up to the fit's gauge: each channel's gains over their geometric mean.
   for (int k = 0; k < 3; ++k) {
@@ -63,7 +56,7 @@ TEST(PhotometricModel, FindsTheGainsCastsAndVignettingOfTheLenses) {
 
 TEST(PhotometricModel, FindsNothingWhereThereIsNothing) {
   const auto c = render({});
-  const PhotometryFit fit = estimate_photometry(c.rig.rig(), pointers(c.images), c.masks);
+  const PhotometryFit fit = estimate_photometry(c.rig.rig(), views(c.images), c.masks);
   for (int cam = 0; cam < 4; ++cam) {
     for (int k = 0; k < 3; ++k) EXPECT_NEAR(fit.cameras[cam].gain[k], 1.0, 0.02);
     EXPECT_NEAR(fit.cameras[cam].vignetting(110.0 * std::numbers::pi / 180.0), 1.0, 0.05);
@@ -74,7 +67,7 @@ TEST(PhotometricModel, CorrectionBringsBackTheScenesColors) {
   const auto clean = render({});
   auto changed = render(synthetic::PhotometricOptions::realistic());
   const PhotometryFit fit =
-      estimate_photometry(changed.rig.rig(), pointers(changed.images), changed.masks);
+      estimate_photometry(changed.rig.rig(), views(changed.images), changed.masks);
   auto mean_error = [&](const std::vector<Rgb8Image>& images) {
     // Up to the gauge: compare after scaling each channel by the mean ratio over all cameras.
     double error = 0;
@@ -107,11 +100,11 @@ TEST(PhotometricModel, CorrectionBringsBackTheScenesColors) {
 
 TEST(PhotometricModel, RejectsMismatchedInputs) {
   const auto c = render({}, 64);
-  auto images = pointers(c.images);
+  auto images = views(c.images);
   images.pop_back();
   EXPECT_THROW(estimate_photometry(c.rig.rig(), images, c.masks), std::invalid_argument);
   std::vector<Rgb8Image> wrong;
-  wrong.emplace_back(10, 10, 3);
+  wrong.emplace_back(10, 10);
   EXPECT_THROW(PhotometricCorrection(c.rig.rig()).apply(PhotometryFit{{{}, {}, {}, {}}}, wrong),
                std::invalid_argument);
 }

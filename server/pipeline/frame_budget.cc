@@ -22,11 +22,11 @@ codec::ColorCodec& FrameBudget::codec_at(int quality) {
   return *codec;
 }
 
-codec::Bytes FrameBudget::encode_at(const Rgb8Image& rgb, int quality) {
+codec::Bytes FrameBudget::encode_at(Rgb8View rgb, int quality) {
   return codec_at(quality).encode(rgb);
 }
 
-FrameBudget::Color FrameBudget::encode(const Rgb8Image& rgb, std::size_t distance_bytes) {
+FrameBudget::Color FrameBudget::encode(Rgb8View rgb, std::size_t distance_bytes) {
   Color out{encode_at(rgb, quality_), quality_, false};
   if (max_bytes_ == 0) return out;
   auto fits = [&](const codec::Bytes& color) {

@@ -27,7 +27,7 @@ class FrameBudget {
   };
   // Encodes `rgb` at the highest quality, in steps of kStep from the last frame's, at which it
   // fits beside `distance_bytes`; one encode per frame while the quality holds.
-  Color encode(const Rgb8Image& rgb, std::size_t distance_bytes);
+  Color encode(Rgb8View rgb, std::size_t distance_bytes);
 
   int quality() const { return quality_; }
   std::string codec_name() const { return codecs_.at(max_quality_)->name(); }
@@ -40,7 +40,7 @@ class FrameBudget {
 
  private:
   codec::ColorCodec& codec_at(int quality);  // made on first use
-  codec::Bytes encode_at(const Rgb8Image& rgb, int quality);
+  codec::Bytes encode_at(Rgb8View rgb, int quality);
 
   int max_quality_, floor_quality_, quality_;
   std::size_t max_bytes_;

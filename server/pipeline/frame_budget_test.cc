@@ -12,7 +12,7 @@ namespace {
 
 // Texture with detail at every scale, so JPEG's size follows its quality.
 Rgb8Image textured(int w, int h) {
-  Rgb8Image im(w, h, 3);
+  Rgb8Image im(w, h);
   std::mt19937 rng(5);
   std::uniform_int_distribution<int> noise(-20, 20);
   for (int y = 0; y < h; ++y)

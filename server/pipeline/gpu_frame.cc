@@ -6,8 +6,8 @@ GpuFrame::GpuFrame(gpu::Context& context, depth::DepthEstimator& estimator,
                    stitch::Stitcher& stitcher)
     : estimator_(&estimator), stitcher_(&stitcher), sequence_(context) {}
 
-stitch::Panorama GpuFrame::run(const std::vector<const Rgb8Image*>& matching,
-                               const std::vector<const Rgb8Image*>& color) {
+stitch::Panorama GpuFrame::run(std::span<const Rgb8View> matching,
+                               std::span<const Rgb8View> color) {
   estimator_->upload(matching);
   stitcher_->upload_color(color);
   sequence_.begin();

@@ -19,8 +19,7 @@ class GpuFrame {
 
   // `matching`: every camera at the matching resolution; `color`: the references at the colour
   // resolution. The panorama's stage_ms holds the GPU time of every stage, depth's included.
-  stitch::Panorama run(const std::vector<const Rgb8Image*>& matching,
-                       const std::vector<const Rgb8Image*>& color);
+  stitch::Panorama run(std::span<const Rgb8View> matching, std::span<const Rgb8View> color);
 
  private:
   depth::DepthEstimator* estimator_;

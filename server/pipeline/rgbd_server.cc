@@ -260,7 +260,7 @@ void RgbdServer::gpu_loop() {
     std::vector<Rgb8Image> color =
         depth::reference_color_images(job.images, stages_->color_rig, options_.depth.references);
     if (stages_->photometry) stages_->photometry->correct(images, color);
-    job.panorama = stages_->gpu_frame.run(depth::pointers(images), depth::pointers(color));
+    job.panorama = stages_->gpu_frame.run(views(images), views(color));
     job.images.clear();
     double stitch_ms = 0;
     for (const auto& [stage, ms] : job.panorama.stage_ms)

@@ -11,7 +11,7 @@ namespace {
 // 1D running-sum box along x or y. Outside the image: wrap (x only) or `border`.
 FloatImage box_1d(const FloatImage& in, int size, bool along_x, bool wrap, float border) {
   const int w = in.width(), h = in.height(), r = size / 2;
-  FloatImage out(w, h, 1);
+  FloatImage out(w, h);
   const int n = along_x ? w : h, lines = along_x ? h : w;
   std::vector<double> line(n);
   auto at = [&](int line_index, int i) -> float {
@@ -56,7 +56,7 @@ std::vector<FloatImage> blend_weights(const BlendSetup& s) {
     const RigCamera& cam = s.rig->cameras[ref];
     const double w = cam.width, h = cam.height;
     // The usable mask smoothed with a 31x31 box, the border padded with 1.
-    FloatImage mask(cam.width, cam.height, 1, 1.0f);
+    FloatImage mask = FloatImage::filled(cam.width, cam.height, 1.0f);
     if (!s.usable.empty() && s.usable[ref]) {
       for (std::size_t i = 0; i < mask.size(); ++i)
         mask.data()[i] = s.usable[ref]->data()[i] ? 1.0f : 0.0f;
@@ -67,7 +67,7 @@ std::vector<FloatImage> blend_weights(const BlendSetup& s) {
     auto clamp_px = [&](Eigen::Vector2d p) {
       return Eigen::Vector2d(std::clamp(p.x(), 0.1, w - 1.1), std::clamp(p.y(), 0.1, h - 1.1));
     };
-    FloatImage out(pw, ph, 1);
+    FloatImage out(pw, ph);
     for (int y = 0; y < ph; ++y) {
       for (int x = 0; x < pw; ++x) {
         const Eigen::Vector3d dir = cam_from_rig * equirect_direction<double>(x, y, pw, ph);

@@ -181,32 +181,31 @@ std::vector<FloatImage> Stitcher::weights() const {
   std::vector<FloatImage> out;
   const std::size_t plane = std::size_t(options_.panorama_width) * options_.panorama_height;
   for (std::size_t k = 0; k < references_.size(); ++k) {
-    out.emplace_back(options_.panorama_width, options_.panorama_height, 1);
+    out.emplace_back(options_.panorama_width, options_.panorama_height);
     weights_.download(out.back().data(), plane * 4, k * plane * 4);
   }
   return out;
 }
 
-void Stitcher::check_color(const std::vector<const Rgb8Image*>& color) const {
+void Stitcher::check_color(std::span<const Rgb8View> color) const {
   if (color.size() != references_.size())
     throw std::invalid_argument("stitch: expected one colour image per reference");
   const RigCamera& first_color = color_rig_.cameras[references_[0]];
   for (std::size_t k = 0; k < references_.size(); ++k) {
-    if (color[k]->width() != first_color.width || color[k]->height() != first_color.height ||
-        color[k]->channels() != 3) {
+    if (color[k].width() != first_color.width || color[k].height() != first_color.height) {
       throw std::invalid_argument("stitch: colour image of reference " +
                                   std::to_string(references_[k]) +
-                                  " is not RGB at the colour resolution");
+                                  " is not at the colour resolution");
     }
   }
 }
 
-void Stitcher::upload_color(const std::vector<const Rgb8Image*>& color) {
+void Stitcher::upload_color(std::span<const Rgb8View> color) {
   check_color(color);
   const std::uint64_t color_area = area(color_rig_.cameras[references_[0]]);
   std::vector<std::uint32_t> packed(color_area);
   for (std::size_t k = 0; k < references_.size(); ++k) {
-    reproject::pack_rgba8(*color[k], packed);
+    reproject::pack_rgba8(color[k], packed);
     color_.upload(packed.data(), color_area * 4, k * color_area * 4);
   }
 }
@@ -243,9 +242,9 @@ void Stitcher::record(gpu::Sequence& seq, const gpu::Buffer& distance,
 }
 
 Panorama Stitcher::download() const {
-  Panorama out{Rgb8Image(options_.panorama_width, options_.panorama_height, 3),
-               FloatImage(options_.panorama_width, options_.panorama_height, 1),
-               FloatImage(options_.panorama_width, options_.panorama_height, 1),
+  Panorama out{Rgb8Image(options_.panorama_width, options_.panorama_height),
+               FloatImage(options_.panorama_width, options_.panorama_height),
+               FloatImage(options_.panorama_width, options_.panorama_height),
                {}};
   out_distance_.download(out.distance.data(), out.distance.size() * 4);
   out_confidence_.download(out.confidence.data(), out.confidence.size() * 4);
@@ -258,9 +257,8 @@ Panorama Stitcher::download() const {
   return out;
 }
 
-Panorama Stitcher::stitch(const std::vector<const FloatImage*>& distance,
-                          const std::vector<const Rgb8Image*>& color,
-                          const std::vector<const FloatImage*>& confidence) {
+Panorama Stitcher::stitch(std::span<const FloatView> distance, std::span<const Rgb8View> color,
+                          std::span<const FloatView> confidence) {
   if (distance.size() != references_.size() || color.size() != references_.size()) {
     throw std::invalid_argument(
         "stitch: expected one distance map and one colour image per reference");
@@ -269,7 +267,7 @@ Panorama Stitcher::stitch(const std::vector<const FloatImage*>& distance,
     throw std::invalid_argument("stitch: expected one confidence map per reference, or none");
   const RigCamera& first = matching_rig_.cameras[references_[0]];
   for (std::size_t k = 0; k < references_.size(); ++k) {
-    if (distance[k]->width() != first.width || distance[k]->height() != first.height) {
+    if (distance[k].width() != first.width || distance[k].height() != first.height) {
       throw std::invalid_argument("stitch: distance map of reference " +
                                   std::to_string(references_[k]) +
                                   " is not at the matching resolution");
@@ -277,13 +275,13 @@ Panorama Stitcher::stitch(const std::vector<const FloatImage*>& distance,
   }
   upload_color(color);
   for (std::size_t k = 0; k < references_.size(); ++k)
-    distances_.upload(distance[k]->data(), area(first) * 4, k * area(first) * 4);
+    distances_.upload(distance[k].data(), area(first) * 4, k * area(first) * 4);
   for (std::size_t k = 0; k < confidence.size(); ++k) {
-    if (confidence[k]->width() != first.width || confidence[k]->height() != first.height)
+    if (confidence[k].width() != first.width || confidence[k].height() != first.height)
       throw std::invalid_argument("stitch: confidence map of reference " +
                                   std::to_string(references_[k]) +
                                   " is not at the matching resolution");
-    confidences_.upload(confidence[k]->data(), area(first) * 4, k * area(first) * 4);
+    confidences_.upload(confidence[k].data(), area(first) * 4, k * area(first) * 4);
   }
   sequence_.begin();
   record(sequence_, distances_, confidence.empty() ? nullptr : &confidences_);

@@ -56,9 +56,8 @@ class Stitcher {
   // resolution; confidence: per reference, the cost confidences at the matching resolution
   // (DepthResult::confidence), or empty (the panorama's confidence then comes from the
   // geometry alone).
-  Panorama stitch(const std::vector<const FloatImage*>& distance,
-                  const std::vector<const Rgb8Image*>& color,
-                  const std::vector<const FloatImage*>& confidence = {});
+  Panorama stitch(std::span<const FloatView> distance, std::span<const Rgb8View> color,
+                  std::span<const FloatView> confidence = {});
 
   // The same on distance maps already on the GPU (DepthEstimator::distance_buffer: reference k's
   // map at float k x width x height), in a submission the caller owns: upload_color, record
@@ -66,7 +65,7 @@ class Stitcher {
   // recorded first, a frame is one submission from the camera images to the panorama: no host
   // round trip between them. `distance` (and `confidence`, laid out the same way, or null) must
   // stay alive until the submission has run.
-  void upload_color(const std::vector<const Rgb8Image*>& color);
+  void upload_color(std::span<const Rgb8View> color);
   void record(gpu::Sequence& seq, const gpu::Buffer& distance,
               const gpu::Buffer* confidence = nullptr);
   Panorama download() const;
@@ -82,7 +81,7 @@ class Stitcher {
 
  private:
   void compute_weights(const std::vector<std::optional<Gray8Image>>& usable);
-  void check_color(const std::vector<const Rgb8Image*>& color) const;
+  void check_color(std::span<const Rgb8View> color) const;
 
   gpu::Context* context_;
   StitchOptions options_;

@@ -43,30 +43,31 @@ TEST(StitchOptions, CheckNamesTheFieldAndItsValue) {
 }
 
 TEST(BoxFilter, WrapsHorizontallyAndPadsVertically) {
-  FloatImage im(8, 4, 1, 0.0f);
+  FloatImage im(8, 4);
   im(0, 1) = 9.0f;
   const FloatImage out = box_filter(im, 3, true, 0.0f);
   EXPECT_FLOAT_EQ(out(7, 1), 1.0f);  // the left edge's neighbour across the seam
   EXPECT_FLOAT_EQ(out(1, 0), 1.0f);
-  const FloatImage padded = box_filter(FloatImage(5, 5, 1, 0.0f), 3, false, 1.0f);
+  const FloatImage padded = box_filter(FloatImage(5, 5), 3, false, 1.0f);
   EXPECT_FLOAT_EQ(padded(0, 0), 5.0f / 9.0f);  // five of nine taps outside
   EXPECT_FLOAT_EQ(padded(2, 2), 0.0f);
 }
 
 TEST(PanoramaMetrics, IdenticalImagesAndKnownErrors) {
-  Rgb8Image a(16, 12, 3, 100);
+  Rgb8Image a = Rgb8Image::filled(16, 12, 100);
   for (std::size_t i = 0; i < a.size(); ++i) a.data()[i] = std::uint8_t(i * 7 % 256);
   EXPECT_NEAR(ssim(a, a), 1.0, 1e-12);
   Rgb8Image b = a.clone();
   b.data()[5] ^= 16;
   EXPECT_LT(ssim(a, b), 1.0);
   EXPECT_NEAR(psnr(a, b), 10 * std::log10(255.0 * 255.0 / (256.0 / double(a.size()))), 1e-9);
-  FloatImage distance(16, 12, 1, 2.0f), inverse(16, 12, 1, 0.5f);
+  FloatImage distance = FloatImage::filled(16, 12, 2.0f);
+  FloatImage inverse = FloatImage::filled(16, 12, 0.5f);
   inverse(3, 3) = 1.0f;  // one pixel off by 0.5
   const PanoramaMetrics m = evaluate_panorama(a, distance, a, inverse);
   EXPECT_NEAR(m.mae, 0.5 / 192, 1e-12);
   EXPECT_NEAR(m.bad_0_4, 1.0 / 192, 1e-12);
-  EXPECT_THROW(evaluate_panorama(a, FloatImage(8, 4, 1), a, inverse), std::invalid_argument);
+  EXPECT_THROW(evaluate_panorama(a, FloatImage(8, 4), a, inverse), std::invalid_argument);
 }
 
 // (The z-buffer and disocclusion filling are tested on an analytic near-object scene in
@@ -88,9 +89,9 @@ TEST_F(StitcherTest, PanoramaMatchesTheGroundTruth) {
   depth::DepthOptions options;
   options.matching_width = options.matching_height = matching;
   depth::DepthEstimator estimator(context(), matching_rig, usable, options);
-  std::vector<const Rgb8Image*> image_pointers;
-  for (const auto& im : images) image_pointers.push_back(&im);
-  const depth::DepthResult depth = estimator.estimate(image_pointers);
+  std::vector<Rgb8View> image_views;
+  for (const auto& im : images) image_views.push_back(im);
+  const depth::DepthResult depth = estimator.estimate(image_views);
 
   Stitcher stitcher(context(), matching_rig, rig.rig(), options.references, usable,
                     {.panorama_width = pano_w, .panorama_height = pano_h});
@@ -115,9 +116,9 @@ TEST_F(StitcherTest, PanoramaMatchesTheGroundTruth) {
     EXPECT_GT(share, 0.999);
     EXPECT_LT(worst, 0.02);
   }
-  const Panorama pano = stitcher.stitch({&depth.distance[0], &depth.distance[1]},
-                                        {&frame.cameras[2].rgb, &frame.cameras[3].rgb},
-                                        {&depth.confidence[0], &depth.confidence[1]});
+  const Panorama pano = stitcher.stitch(
+      views(depth.distance), std::vector<Rgb8View>{frame.cameras[2].rgb, frame.cameras[3].rgb},
+      views(depth.confidence));
   const PanoramaMetrics m = evaluate_panorama(pano.rgb, pano.distance, frame.panorama.rgb,
                                               frame.panorama.inverse_distance);
   std::cout << "panorama: MAE " << m.mae << " m^-1, RMSE " << m.rmse << ", >0.1 " << 100 * m.bad_0_1
@@ -150,7 +151,7 @@ TEST_F(StitcherTest, PanoramaMatchesTheGroundTruth) {
   context().set_command_log(&log);
   pipeline::GpuFrame gpu_frame(context(), estimator, stitcher);
   const Panorama resident =
-      gpu_frame.run(image_pointers, {&frame.cameras[2].rgb, &frame.cameras[3].rgb});
+      gpu_frame.run(image_views, std::vector<Rgb8View>{frame.cameras[2].rgb, frame.cameras[3].rgb});
   context().set_command_log(nullptr);
   // One submission from the images to the panorama (staged transfers before and after it wait
   // for the GPU too, where memory is not mapped).

@@ -24,8 +24,8 @@ std::pair<FloatImage, Rgb8Image> noisy_frame(int f, double sigma) {
   std::mt19937 rng(1000 + f);
   std::normal_distribution<float> noise(0.0f, float(sigma));
   std::uniform_int_distribution<int> jitter(-2, 2);
-  FloatImage distance(kW, kH, 1);
-  Rgb8Image color(kW, kH, 3);
+  FloatImage distance(kW, kH);
+  Rgb8Image color(kW, kH);
   for (int y = 0; y < kH; ++y) {
     for (int x = 0; x < kW; ++x) {
       const int i = y * kW + x;
@@ -78,7 +78,7 @@ TEST_F(TemporalFilterTest, EqualsCpuAndStopsFlicker) {
     seq.begin();
     filter.record(seq, distance, color);
     seq.submit_and_wait();
-    FloatImage gpu(kW, kH, 1);
+    FloatImage gpu(kW, kH);
     distance.download(gpu.data(), gpu.size() * 4);
     temporal_filter_cpu(state, d, c, options);
     for (std::size_t i = 0; i < d.size(); ++i) {

@@ -19,8 +19,8 @@ SyntheticRig rig_with(const PhotometricOptions& photometric) {
   return SyntheticRig(options);
 }
 
-template <typename T>
-bool same(const Image<T>& a, const Image<T>& b) {
+template <typename T, int C>
+bool same(const Image<T, C>& a, const Image<T, C>& b) {
   return std::ranges::equal(a.pixels(), b.pixels());
 }
 

@@ -31,8 +31,8 @@ bool lens_ray(const RigCamera& camera, double u, double v, double cos_half_fov,
 
 RenderedImage render_camera(const Scene& scene, const RigCamera& camera,
                             const Rigid3d& world_from_rig, double lens_half_fov) {
-  RenderedImage out{Rgb8Image(camera.width, camera.height, 3, 0),
-                    FloatImage(camera.width, camera.height, 1, 0.0f)};
+  RenderedImage out{Rgb8Image(camera.width, camera.height),
+                    FloatImage(camera.width, camera.height)};
   const Rigid3d world_from_cam = world_from_rig * camera.rig_from_cam;
   const Eigen::Matrix3f rotation = world_from_cam.rotation.toRotationMatrix().cast<float>();
   const Eigen::Vector3f origin = world_from_cam.translation.cast<float>();
@@ -63,7 +63,7 @@ RenderedImage render_camera(const Scene& scene, const RigCamera& camera,
 
 RenderedImage render_panorama(const Scene& scene, const Rigid3d& world_from_rig,
                               const Eigen::Vector3d& viewpoint_in_rig, int width, int height) {
-  RenderedImage out{Rgb8Image(width, height, 3, 0), FloatImage(width, height, 1, 0.0f)};
+  RenderedImage out{Rgb8Image(width, height), FloatImage(width, height)};
   const Eigen::Matrix3f rotation = world_from_rig.rotation.toRotationMatrix().cast<float>();
   const Eigen::Vector3f origin = (world_from_rig * viewpoint_in_rig).cast<float>();
   const float pixel_angle = std::numbers::pi_v<float> / float(height);
@@ -78,7 +78,7 @@ RenderedImage render_panorama(const Scene& scene, const Rigid3d& world_from_rig,
 }
 
 Gray8Image lens_mask(const RigCamera& camera, double lens_half_fov) {
-  Gray8Image mask(camera.width, camera.height, 1, 0);
+  Gray8Image mask(camera.width, camera.height);
   const double cos_half_fov = std::cos(lens_half_fov);
   for (int v = 0; v < camera.height; ++v) {
     for (int u = 0; u < camera.width; ++u) {

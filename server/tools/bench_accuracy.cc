@@ -150,7 +150,7 @@ Row run(gpu::Context& context, const AccuracySet& set, const Variant& variant,
     if (photometry) photometry->correct(matching, color);
     log.clear();
     context.set_command_log(&log);
-    const stitch::Panorama pano = gpu_frame.run(depth::pointers(matching), depth::pointers(color));
+    const stitch::Panorama pano = gpu_frame.run(views(matching), views(color));
     context.set_command_log(nullptr);
     ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
                      .count());

@@ -136,9 +136,9 @@ stitch::Panorama estimate_panorama(gpu::Context& context, const Rig& rig,
   const auto usable = depth::matching_masks(masks_full, options);
   const std::vector<Rgb8Image> matching = depth::matching_images(images, options);
   depth::DepthEstimator estimator(context, matching_rig, usable, options);
-  const depth::DepthResult result = estimator.estimate(depth::pointers(matching));
+  const depth::DepthResult result = estimator.estimate(views(matching));
   stitch::Stitcher stitcher(context, matching_rig, rig, options.references, usable, {});
-  return stitcher.stitch({&result.distance[0], &result.distance[1]}, {&images[2], &images[3]});
+  return stitcher.stitch(views(result.distance), std::vector<Rgb8View>{images[2], images[3]});
 }
 
 stitch::Panorama synthetic_panorama(gpu::Context& context) {

@@ -120,7 +120,7 @@ void stage_section(gpu::Context& context, const std::vector<int>& resolutions, i
     memory_mib[size] = double(estimator.gpu_bytes()) / (1 << 20);
     std::map<std::string, std::vector<double>> runs;
     for (int it = 0; it < iterations + 1; ++it) {
-      const auto result = estimator.estimate(scene.image_pointers());
+      const auto result = estimator.estimate(scene.image_views());
       if (it == 0) continue;  // warm-up
       for (const auto& [stage, t] : result.stage_ms) runs[stage].push_back(t);
     }
@@ -166,7 +166,7 @@ void filter_section(gpu::Context& context, int filter_resolution, int iterations
   options.matching_width = options.matching_height = size;
   depth::DepthEstimator estimator(context, scene.rig.rig(), scene.usable, options);
   const int n = options.num_candidates, ref = options.references[0];
-  const std::vector<float> raw = estimator.cost_volume(scene.image_pointers(), 0, false);
+  const std::vector<float> raw = estimator.cost_volume(scene.image_views(), 0, false);
   const std::vector<std::uint32_t> guide = depth::ycbcr_guide_cpu(scene.images[ref]);
   cv::Mat guide_mat(size, size, CV_8UC3);
   for (int p = 0; p < size * size; ++p) {

@@ -154,7 +154,7 @@ void model_section(gpu::Context& context, depth::DepthOptions options, int resol
   for (int run = 0; run < 2; ++run) {
     log.clear();
     context.set_command_log(&log);
-    gpu_frame.run(depth::pointers(matching), depth::pointers(color));
+    gpu_frame.run(views(matching), views(color));
     context.set_command_log(nullptr);
   }
 

@@ -48,14 +48,14 @@ int run(int argc, char** argv) {
       tools::split_list(frames),
       [&](Frame&& frame) {
         const auto images = depth::matching_images(depth::rgb8_images(frame), options);
-        const depth::DepthResult result = estimator.estimate(depth::pointers(images));
+        const depth::DepthResult result = estimator.estimate(views(images));
         std::printf("frame %s:", frame.name.c_str());
         for (const auto& [stage, ms] : result.stage_ms)
           std::printf(" %s %.1f ms", stage.c_str(), ms);
         std::printf("\n");
         for (std::size_t slot = 0; slot < options.references.size(); ++slot) {
           const int ref = options.references[slot];
-          FloatImage inverse(options.matching_width, options.matching_height, 1);
+          FloatImage inverse(options.matching_width, options.matching_height);
           for (std::size_t p = 0; p < inverse.size(); ++p)
             inverse.data()[p] = 1.0f / result.distance[slot].data()[p];
           const std::string stem = "inv_distance_cam" + std::to_string(ref) + "_" + frame.name;

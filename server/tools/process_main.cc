@@ -143,7 +143,7 @@ int run(int argc, char** argv) {
           photometry_ms = std::chrono::duration<double, std::milli>(Clock::now() - t).count();
         }
         // One submission from the images to the panorama: depth stays on the GPU.
-        stitch::Panorama pano = gpu_frame.run(depth::pointers(images), depth::pointers(color));
+        stitch::Panorama pano = gpu_frame.run(views(images), views(color));
         // The correction's host time joins the GPU stages, as the stage "photometry".
         if (photometry) pano.stage_ms.insert(pano.stage_ms.begin(), {"photometry", photometry_ms});
         const double ms = std::chrono::duration<double, std::milli>(Clock::now() - start).count();

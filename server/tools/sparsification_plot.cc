@@ -69,7 +69,7 @@ Rgb8Image plot_sparsification(const stitch::Sparsification& curve, const std::st
                   format("80 %% most confident %.4f)", curve.mae_at_80),
               {area.x + 5, area.y + area.height - 8}, cv::FONT_HERSHEY_SIMPLEX, 0.42, black, 1,
               cv::LINE_AA);
-  Rgb8Image out(width, height, 3);
+  Rgb8Image out(width, height);
   std::memcpy(out.data(), canvas.data, out.size());
   return out;
 }

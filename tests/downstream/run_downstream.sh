@@ -25,10 +25,20 @@ cmake --build "$work/cmake-build" > "$work/build.log"
 echo "built with find_package(omnisweep): $work/cmake-build/example"
 PKG_CONFIG_PATH=$work/prefix/lib/pkgconfig
 export PKG_CONFIG_PATH
-# Without NDEBUG, as a Debug build of an app compiles it (omnisweep/gpu/vulkan.h keeps layouts equal).
+# The headers an app includes (the subscriber, the reprojector, the context) need the Vulkan C
+# headers only: Vulkan-Hpp and its NDEBUG rule stay inside the SDK.
 # shellcheck disable=SC2046
-c++ -O1 -g "$work/project/example.cc" -o "$work/example-pkgconfig" $(pkg-config --cflags --libs omnisweep)
-echo "built with pkg-config omnisweep: $work/example-pkgconfig"
+if c++ -std=c++20 -E -dM "$work/project/example.cc" $(pkg-config --cflags omnisweep) |
+  grep -q '^#define VULKAN_HPP '; then
+  echo "the example's omnisweep headers pull in Vulkan-Hpp (vulkan.hpp)" >&2
+  exit 1
+fi
+# As a Debug build of an app that uses Vulkan-Hpp itself compiles it: without NDEBUG, with
+# <vulkan/vulkan.hpp> included before any omnisweep header.
+# shellcheck disable=SC2046
+c++ -O1 -g -include vulkan/vulkan.hpp "$work/project/example.cc" -o "$work/example-pkgconfig" \
+  $(pkg-config --cflags --libs omnisweep)
+echo "built with pkg-config omnisweep, Vulkan-Hpp first and no NDEBUG: $work/example-pkgconfig"
 
 "$build/bin/omnisweep-synth" -o "$work/data" -n 2 --image-size 160 --panorama 64 32 > /dev/null 2>&1
 domain=$((201 + $$ % 30))

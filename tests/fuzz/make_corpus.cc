@@ -36,7 +36,7 @@ std::vector<std::uint8_t> header(std::uint8_t path, int w, int h) {
 
 // A small scene's distance: a floor ramp, a nearer box with sharp edges, a hole.
 FloatImage distance_map(int w, int h, int frame) {
-  FloatImage d(w, h, 1);
+  FloatImage d(w, h);
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) {
       float v = 1.0f + 8.0f * float(h - y) / float(h) + 0.02f * float((x * 7 + y * 3) % 5);
@@ -48,7 +48,7 @@ FloatImage distance_map(int w, int h, int frame) {
 }
 
 Rgb8Image color_image(int w, int h, int frame) {
-  Rgb8Image rgb(w, h, 3);
+  Rgb8Image rgb(w, h);
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x)
       for (int c = 0; c < 3; ++c)
@@ -99,7 +99,7 @@ int main(int argc, char** argv) {
     write_file(root / "frame_decoder/jpeg", jpeg);
 
     // Confidence: header, then a conf8-zstd payload of a ramp with a low-confidence hole.
-    Gray8Image levels(64, 32, 1);
+    Gray8Image levels(64, 32);
     for (int y = 0; y < 32; ++y)
       for (int x = 0; x < 64; ++x)
         levels.data()[y * 64 + x] = std::uint8_t(x > 20 && x < 30 && y > 8 && y < 20 ? 3 : 4 * x);

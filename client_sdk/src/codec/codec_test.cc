@@ -15,7 +15,7 @@ namespace omnisweep::codec {
 namespace {
 
 Rgb8Image test_image(int w, int h) {
-  Rgb8Image im(w, h, 3);
+  Rgb8Image im(w, h);
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x)
       for (int c = 0; c < 3; ++c)
@@ -25,7 +25,7 @@ Rgb8Image test_image(int w, int h) {
 
 // A distance map with smooth surfaces, an edge and holes (like an estimated map).
 FloatImage test_distance(int w, int h) {
-  FloatImage d(w, h, 1);
+  FloatImage d(w, h);
   std::mt19937 rng(4);
   std::normal_distribution<float> noise(0.0f, 0.01f);
   for (int y = 0; y < h; ++y)
@@ -70,7 +70,7 @@ TEST(DistanceCodec, QuantisationBoundAtDefaults) {
               1e-10);  // float params
   // Measured over every distance in [0.55, 100] m on a fine grid.
   const int n = 200000;
-  FloatImage d(n, 1, 1);
+  FloatImage d(n, 1);
   for (int i = 0; i < n; ++i)
     d(i, 0) = float(1.0 / (1.0 / 100 + (1 / 0.55 - 1 / 100.0) * i / (n - 1)));
   const auto codec = make_distance_codec("qinv16-zstd");
@@ -114,7 +114,7 @@ TEST(DistanceCodec, RoundTripsAnyShape) {
   std::mt19937 rng(11);
   for (const auto& [w, h] : std::vector<std::pair<int, int>>{
            {1, 1}, {2, 1}, {1, 3}, {3, 5}, {7, 2}, {5, 9}, {33, 4}, {201, 9}, {64, 64}}) {
-    FloatImage d(w, h, 1);
+    FloatImage d(w, h);
     std::uniform_real_distribution<float> unit(0.0f, 1.0f);
     for (int y = 0; y < h; ++y)
       for (int x = 0; x < w; ++x) {
@@ -252,7 +252,7 @@ TEST(ConfidenceCodec, RoundTripAndLevels) {
   EXPECT_THROW(make_confidence_codec("png"), CodecError);
   std::mt19937 rng(7);
   for (const auto [w, h] : {std::pair{1, 1}, {3, 5}, {64, 32}, {257, 19}}) {
-    FloatImage confidence(w, h, 1);
+    FloatImage confidence(w, h);
     for (float& c : confidence.pixels())
       c = std::uniform_real_distribution<float>(-0.2f, 1.2f)(rng);
     confidence.data()[0] = std::nanf("");
@@ -265,7 +265,7 @@ TEST(ConfidenceCodec, RoundTripAndLevels) {
     const Gray8Image back = codec->decode(codec->encode(levels, 1), w, h);
     EXPECT_TRUE(std::equal(back.pixels().begin(), back.pixels().end(), levels.pixels().begin()));
     // Downsampled: a constant map comes back exactly, at any size.
-    Gray8Image constant(w, h, 1, 77);
+    Gray8Image constant = Gray8Image::filled(w, h, 77);
     for (const int downsample : {2, 4}) {
       const Gray8Image c = codec->decode(codec->encode(constant, downsample), w, h);
       EXPECT_TRUE(std::all_of(c.pixels().begin(), c.pixels().end(), [](auto v) { return v == 77; }))
@@ -280,7 +280,7 @@ TEST(ConfidenceCodec, RoundTripAndLevels) {
 // a quarter of the samples stored.
 TEST(ConfidenceCodec, HalfResolutionKeepsSmoothMaps) {
   const auto codec = make_confidence_codec("conf8-zstd");
-  Gray8Image ramp(128, 64, 1);
+  Gray8Image ramp(128, 64);
   for (int y = 0; y < 64; ++y)
     for (int x = 0; x < 128; ++x) ramp.data()[y * 128 + x] = std::uint8_t(x + 2 * y);
   const Bytes half = codec->encode(ramp);
@@ -296,7 +296,7 @@ TEST(ConfidenceCodec, HalfResolutionKeepsSmoothMaps) {
 
 TEST(ConfidenceCodec, BadPayloadsAreErrors) {
   const auto codec = make_confidence_codec("conf8-zstd");
-  Gray8Image levels(40, 20, 1);
+  Gray8Image levels(40, 20);
   for (std::size_t i = 0; i < levels.size(); ++i) levels.data()[i] = std::uint8_t(i * 7);
   const Bytes good = codec->encode(levels);
   EXPECT_THROW(codec->decode(good, 20, 40), CodecError);  // other size

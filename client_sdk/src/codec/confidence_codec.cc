@@ -29,7 +29,7 @@ constexpr int kZstdLevel = 3;
 int stored(int size, int downsample) { return (size + downsample - 1) / downsample; }
 
 // The rounded mean level of each downsample x downsample block (clipped at the edges).
-Bytes block_means(const Gray8Image& levels, int downsample) {
+Bytes block_means(Gray8View levels, int downsample) {
   const int w = levels.width(), h = levels.height();
   const int sw = stored(w, downsample), sh = stored(h, downsample);
   Bytes out(std::size_t(sw) * sh);
@@ -47,7 +47,7 @@ Bytes block_means(const Gray8Image& levels, int downsample) {
 
 // Bilinear between the stored samples' centres, clamped at the edges.
 Gray8Image upsample(const Bytes& samples, int sw, int sh, int w, int h, int downsample) {
-  Gray8Image out(w, h, 1);
+  Gray8Image out(w, h);
   for (int y = 0; y < h; ++y) {
     const double fy = std::clamp((y + 0.5) / downsample - 0.5, 0.0, double(sh - 1));
     const int y0 = int(fy), y1 = std::min(y0 + 1, sh - 1);
@@ -69,9 +69,8 @@ class Conf8Zstd final : public ConfidenceCodec {
  public:
   std::string name() const override { return std::string(kConf8Zstd); }
 
-  Bytes encode(const Gray8Image& levels, int downsample) const override {
-    if (levels.channels() != 1 || levels.empty())
-      throw CodecError("confidence codec: expected a non-empty one-channel image");
+  Bytes encode(Gray8View levels, int downsample) const override {
+    if (levels.empty()) throw CodecError("confidence codec: expected a non-empty image");
     if (downsample != 1 && downsample != 2 && downsample != 4)
       throw CodecError("confidence codec: downsample " + std::to_string(downsample) +
                        " is not 1, 2 or 4");
@@ -128,7 +127,7 @@ class Conf8Zstd final : public ConfidenceCodec {
       if (i % std::size_t(sw) != 0) samples[i] = std::uint8_t(samples[i] + samples[i - 1]);
     }
     if (downsample == 1) {
-      Gray8Image out(width, height, 1);
+      Gray8Image out(width, height);
       std::copy(samples.begin(), samples.end(), out.data());
       return out;
     }
@@ -140,9 +139,8 @@ class Conf8Zstd final : public ConfidenceCodec {
 
 std::unique_ptr<ConfidenceCodec> make_conf8_zstd_codec() { return std::make_unique<Conf8Zstd>(); }
 
-Gray8Image confidence_levels(const FloatImage& confidence) {
-  if (confidence.channels() != 1) throw CodecError("confidence: expected a one-channel image");
-  Gray8Image out(confidence.width(), confidence.height(), 1);
+Gray8Image confidence_levels(FloatView confidence) {
+  Gray8Image out(confidence.width(), confidence.height());
   for (std::size_t i = 0; i < out.size(); ++i) {
     const float c = confidence.data()[i];
     out.data()[i] =
@@ -151,8 +149,8 @@ Gray8Image confidence_levels(const FloatImage& confidence) {
   return out;
 }
 
-FloatImage confidence_values(const Gray8Image& levels) {
-  FloatImage out(levels.width(), levels.height(), 1);
+FloatImage confidence_values(Gray8View levels) {
+  FloatImage out(levels.width(), levels.height());
   for (std::size_t i = 0; i < out.size(); ++i) out.data()[i] = levels.data()[i] / 255.0f;
   return out;
 }

@@ -107,7 +107,7 @@ void for_each_band(int count, const Job& job) {
 }
 
 // Levels (0 = no value) of row y of the stored w-wide map.
-void quantise_row(const FloatImage& distance, const DistanceParams& params, int w, int y,
+void quantise_row(FloatView distance, const DistanceParams& params, int w, int y,
                   std::uint16_t* q) {
   const float lo = 1.0f / params.max_distance, hi = 1.0f / params.min_distance;
   const float scale = float(params.levels - 1) / (hi - lo);
@@ -221,8 +221,8 @@ OMNISWEEP_AVX2_CLONES void row_residuals(const std::uint16_t* __restrict row,
 // one after another (byte lengths in scratch.lengths), then the escape stream. One pass: each
 // row is quantised as it comes, its residuals and contexts stay in cache, and each pair goes
 // straight to its context's buffer.
-void residual_streams(const FloatImage& distance, const DistanceParams& params, int w,
-                      const Band& band, BandScratch& scratch) {
+void residual_streams(FloatView distance, const DistanceParams& params, int w, const Band& band,
+                      BandScratch& scratch) {
   const std::size_t rows = std::size_t(band.y1 - band.y0);
   // At most 3 bytes per pair (escaped pair code) and one per lone sample, in any one stream.
   const std::size_t bound = rows * (3 * std::size_t(w / 2) + 1);
@@ -371,10 +371,9 @@ class QuantisedInverseDistanceCodec final : public DistanceCodec {
  public:
   std::string name() const override { return std::string(kQinv16Zstd); }
 
-  Bytes encode(const FloatImage& distance, const DistanceParams& params) const override {
+  Bytes encode(FloatView distance, const DistanceParams& params) const override {
     params.check();
-    if (distance.empty() || distance.channels() != 1)
-      throw CodecError(error_prefix() + "expects a one-channel map");
+    if (distance.empty()) throw CodecError(error_prefix() + "expects a non-empty map");
     const int ds = int(params.downsample);
     const int w = (distance.width() + ds - 1) / ds, h = (distance.height() + ds - 1) / ds;
     const std::lock_guard lock(mutex_);
@@ -427,7 +426,7 @@ class QuantisedInverseDistanceCodec final : public DistanceCodec {
     const int ds = int(params.downsample);
     const int w = (width + ds - 1) / ds;
     const std::lock_guard lock(mutex_);
-    const auto allocate = [&] { out = FloatImage(width, height, 1); };
+    const auto allocate = [&] { out = FloatImage(width, height); };
     decode_bands(payload, width, height, params, allocate, [&](const Band& band) {
       // Level -> metres by lookup, for the output rows this band covers.
       for (int y = band.y0 * ds; y < std::min(band.y1 * ds, height); ++y) {
@@ -450,7 +449,7 @@ class QuantisedInverseDistanceCodec final : public DistanceCodec {
     const std::lock_guard lock(mutex_);
     decode_bands(
         payload, width, height, params, [] {}, [](const Band&) {});
-    Image<std::uint16_t> out(w, int(levels_.size() / std::size_t(w)), 1);
+    Image<std::uint16_t> out(w, int(levels_.size() / std::size_t(w)));
     std::copy(levels_.begin(), levels_.end(), out.data());
     return out;
   }
@@ -558,18 +557,18 @@ std::vector<float> level_metres(const DistanceParams& params) {
   return metres;
 }
 
-FloatImage distance_from_levels(const Image<std::uint16_t>& levels, int width, int height,
+FloatImage distance_from_levels(ImageView<const std::uint16_t> levels, int width, int height,
                                 const DistanceParams& params) {
   params.check();
   const int ds = int(params.downsample);
   if (width <= 0 || height <= 0 || levels.width() != (width + ds - 1) / ds ||
-      levels.height() != (height + ds - 1) / ds || levels.channels() != 1) {
+      levels.height() != (height + ds - 1) / ds) {
     throw CodecError("distance_from_levels: levels of " + std::to_string(levels.width()) + "x" +
                      std::to_string(levels.height()) + " do not store a " + std::to_string(width) +
                      "x" + std::to_string(height) + " map at 1/" + std::to_string(ds));
   }
   const std::vector<float> metres = level_metres(params);
-  FloatImage out(width, height, 1);
+  FloatImage out(width, height);
   for (int y = 0; y < height; ++y) {
     const std::uint16_t* row = levels.data() + std::size_t(y / ds) * std::size_t(levels.width());
     float* dst = out.data() + std::size_t(y) * std::size_t(width);

@@ -28,9 +28,8 @@ class JpegCodec final : public ColorCodec {
   }
   std::string name() const override { return std::string(kJpeg); }
 
-  Bytes encode(const Rgb8Image& image) const override {
-    if (image.channels() != 3 || image.empty())
-      throw CodecError(error_prefix() + "expects a non-empty RGB image");
+  Bytes encode(Rgb8View image) const override {
+    if (image.empty()) throw CodecError(error_prefix() + "expects a non-empty image");
     const TjHandle tj(tjInitCompress());
     unsigned char* out = nullptr;
     unsigned long size = 0;
@@ -59,7 +58,7 @@ class JpegCodec final : public ColorCodec {
                        std::to_string(h) + ", the frame says " + std::to_string(width) + "x" +
                        std::to_string(height));
     }
-    Rgb8Image image(width, height, 3);
+    Rgb8Image image(width, height);
     // Warnings (a truncated scan, corrupt data) are errors: frames are whole or rejected.
     if (tjDecompress2(tj.handle, payload.data(), payload.size(), image.data(), width, 0, height,
                       TJPF_RGB, TJFLAG_STOPONWARNING | TJFLAG_LIMITSCANS) != 0) {

@@ -264,7 +264,7 @@ void DatasetWriter::write_hints(const DatasetHints& hints) const {
   if (!out) throw DatasetError((dir_ / "dataset.json").string() + ": cannot write");
 }
 
-void DatasetWriter::write_mask(int camera, const Gray8Image& mask) const {
+void DatasetWriter::write_mask(int camera, Gray8View mask) const {
   write_png(camera_dir(dir_, camera) / "mask.png", mask);
 }
 
@@ -280,8 +280,8 @@ void DatasetWriter::write_images(const std::string& name,
   }
 }
 
-void DatasetWriter::write_ground_truth(const std::string& name, const Rgb8Image& rgb,
-                                       const FloatImage& inverse_distance) const {
+void DatasetWriter::write_ground_truth(const std::string& name, Rgb8View rgb,
+                                       FloatView inverse_distance) const {
   std::error_code ec;
   fs::create_directories(dir_ / "gt", ec);
   write_png(dir_ / "gt" / ("rgb_" + name + ".png"), rgb, 1);
@@ -289,7 +289,7 @@ void DatasetWriter::write_ground_truth(const std::string& name, const Rgb8Image&
 }
 
 void DatasetWriter::write_camera_ground_truth(const std::string& name, int camera,
-                                              const FloatImage& inverse_distance) const {
+                                              FloatView inverse_distance) const {
   const fs::path dir = dir_ / "gt" / ("cam" + std::to_string(camera));
   std::error_code ec;
   fs::create_directories(dir, ec);

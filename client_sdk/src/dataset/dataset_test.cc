@@ -29,8 +29,8 @@ Rig small_rig() {
 
 std::vector<Rgb8Image> images(std::uint8_t value) {
   std::vector<Rgb8Image> out;
-  out.emplace_back(64, 48, 3, value);
-  out.emplace_back(64, 48, 3, value);
+  out.push_back(Rgb8Image::filled(64, 48, value));
+  out.push_back(Rgb8Image::filled(64, 48, value));
   return out;
 }
 
@@ -39,7 +39,7 @@ TEST(Dataset, ListsFramesInNaturalOrderAndSkipsBrokenOnes) {
   DatasetWriter writer(dir.path(), small_rig());
   for (const char* name : {"0", "1", "2", "10", "x"}) writer.write_images(name, images(10));
   fs::remove(dir.path() / "cam1" / "1.png");                                  // missing
-  write_png(dir.path() / "cam0" / "2.png", Rgb8Image(32, 48, 3));             // wrong size
+  write_png(dir.path() / "cam0" / "2.png", Rgb8Image(32, 48));                // wrong size
   std::ofstream(dir.path() / "cam1" / "x.png", std::ios::trunc) << "broken";  // unreadable
   std::ofstream(dir.path() / "cam0" / "notes.txt") << "not an image";
 
@@ -48,7 +48,7 @@ TEST(Dataset, ListsFramesInNaturalOrderAndSkipsBrokenOnes) {
   std::vector<std::string> loaded;
   const auto skipped = ds.for_each_frame({}, [&](Frame&& f) {
     EXPECT_EQ(f.images.size(), 2u);
-    EXPECT_EQ(std::get<Image<std::uint8_t>>(f.images[1])(5, 5, 2), 10);
+    EXPECT_EQ(std::get<Rgb8Image>(f.images[1])(5, 5, 2), 10);
     loaded.push_back(f.name);
   });
   EXPECT_EQ(loaded, (std::vector<std::string>{"0", "10"}));
@@ -69,7 +69,7 @@ TEST(Dataset, ListsFramesInNaturalOrderAndSkipsBrokenOnes) {
 TEST(Dataset, LoadsDeepImagesMasksAndGroundTruth) {
   ScratchDir dir;
   DatasetWriter writer(dir.path(), small_rig());
-  Gray8Image mask(64, 48, 1, 255);
+  Gray8Image mask = Gray8Image::filled(64, 48, 255);
   mask(0, 0) = 0;
   writer.write_mask(1, mask);
   writer.write_images("a", images(3));
@@ -78,9 +78,9 @@ TEST(Dataset, LoadsDeepImagesMasksAndGroundTruth) {
   cv::imwrite((dir.path() / "cam1" / "b.tiff").string(),
               cv::Mat(48, 64, CV_32FC3, cv::Scalar(0.1f, 0.2f, 0.3f)),
               {cv::IMWRITE_TIFF_COMPRESSION, 1});  // uncompressed: exact floats
-  FloatImage inv(32, 16, 1, 0.25f);
-  writer.write_ground_truth("a", Rgb8Image(32, 16, 3, 80), inv);
-  writer.write_camera_ground_truth("a", 1, FloatImage(64, 48, 1, 0.5f));
+  FloatImage inv = FloatImage::filled(32, 16, 0.25f);
+  writer.write_ground_truth("a", Rgb8Image::filled(32, 16, 80), inv);
+  writer.write_camera_ground_truth("a", 1, FloatImage::filled(64, 48, 0.5f));
 
   const Dataset ds = Dataset::open(dir.path());
   ASSERT_EQ(ds.masks().size(), 2u);
@@ -98,8 +98,8 @@ TEST(Dataset, LoadsDeepImagesMasksAndGroundTruth) {
 
   const Frame b = ds.load_frame("b");
   EXPECT_FALSE(b.ground_truth.has_value());
-  EXPECT_EQ(std::get<Image<std::uint16_t>>(b.images[0])(0, 0, 0), 3);  // R from BGR (1, 2, 3)
-  EXPECT_FLOAT_EQ(std::get<Image<float>>(b.images[1])(0, 0, 0), 0.3f);
+  EXPECT_EQ(std::get<Rgb16Image>(b.images[0])(0, 0, 0), 3);  // R from BGR (1, 2, 3)
+  EXPECT_FLOAT_EQ(std::get<RgbFloatImage>(b.images[1])(0, 0, 0), 0.3f);
 }
 
 TEST(Dataset, BadFolderCalibrationOrMaskIsAnError) {
@@ -107,7 +107,7 @@ TEST(Dataset, BadFolderCalibrationOrMaskIsAnError) {
   ScratchDir dir;
   EXPECT_THROW(Dataset::open(dir.path()), CalibrationError);
   DatasetWriter writer(dir.path(), small_rig());
-  write_png(dir.path() / "cam0" / "mask.png", Gray8Image(10, 10, 1));
+  write_png(dir.path() / "cam0" / "mask.png", Gray8Image(10, 10));
   try {
     Dataset::open(dir.path());
     FAIL();

@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "omnisweep/gpu/command_log.h"
+#include "omnisweep/gpu/vulkan.h"
 #include "staging.h"
 
 namespace omnisweep::gpu {
@@ -182,11 +183,24 @@ std::vector<DeviceInfo> list_devices() {
   return out;
 }
 
+// The Vulkan-Hpp objects of a context, in the order they are made (and destroyed in reverse).
+struct Context::Vulkan {
+  vk::raii::Context context;
+  vk::raii::Instance instance{nullptr};
+  vk::raii::DebugUtilsMessengerEXT messenger{nullptr};
+  vk::raii::PhysicalDevice physical_device{nullptr};
+  vk::raii::Device device{nullptr};
+  vk::raii::Queue queue{nullptr};
+  vk::raii::CommandPool command_pool{nullptr};
+  vk::PhysicalDeviceMemoryProperties memory_properties;
+};
+
 Context::Context(const ContextOptions& options)
     : validation_(options.validation),
       messages_(std::make_unique<Messages>()),
+      vk_(std::make_unique<Vulkan>()),
       hidden_memory_(options.hidden_memory) {
-  instance_ = create_instance(context_, validation_);
+  vk_->instance = create_instance(vk_->context, validation_);
   if (validation_) {
     using Severity = vk::DebugUtilsMessageSeverityFlagBitsEXT;
     using Type = vk::DebugUtilsMessageTypeFlagBitsEXT;
@@ -202,13 +216,13 @@ Context::Context(const ContextOptions& options)
       messages->list.emplace_back(data->pMessage ? data->pMessage : "(no message)");
       return VK_FALSE;
     };
-    messenger_ = vk::raii::DebugUtilsMessengerEXT(
-        instance_,
+    vk_->messenger = vk::raii::DebugUtilsMessengerEXT(
+        vk_->instance,
         vk::DebugUtilsMessengerCreateInfoEXT(
             {}, Severity::eWarning | Severity::eError,
             Type::eGeneral | Type::eValidation | Type::ePerformance, callback, messages_.get()));
   }
-  vk::raii::PhysicalDevices devices(instance_);
+  vk::raii::PhysicalDevices devices(vk_->instance);
   if (devices.empty()) {
     throw GpuError(
         "no Vulkan device found (install a Vulkan driver; on Debian mesa-vulkan-drivers gives "
@@ -245,10 +259,10 @@ Context::Context(const ContextOptions& options)
   }
   const std::int64_t family = chosen >= 0 ? compute_queue_family(devices[chosen]) : -1;
   if (family < 0) throw GpuError("no Vulkan device with a compute queue; available:" + available());
-  physical_device_ = std::move(devices[chosen]);
+  vk_->physical_device = std::move(devices[chosen]);
   info_ = infos[chosen];
   queue_family_ = std::uint32_t(family);
-  memory_properties_ = physical_device_.getMemoryProperties();
+  vk_->memory_properties = vk_->physical_device.getMemoryProperties();
 
   const float priority = 1.0f;
   const vk::DeviceQueueCreateInfo queue_info({}, queue_family_, 1, &priority);
@@ -259,10 +273,10 @@ Context::Context(const ContextOptions& options)
   if (info_.storage_16bit) features.pNext = &storage_16bit;
   vk::DeviceCreateInfo device_info({}, queue_info, {}, {}, nullptr);
   device_info.pNext = &features;
-  device_ = vk::raii::Device(physical_device_, device_info);
-  queue_ = vk::raii::Queue(device_, queue_family_, 0);
-  command_pool_ = vk::raii::CommandPool(
-      device_,
+  vk_->device = vk::raii::Device(vk_->physical_device, device_info);
+  vk_->queue = vk::raii::Queue(vk_->device, queue_family_, 0);
+  vk_->command_pool = vk::raii::CommandPool(
+      vk_->device,
       vk::CommandPoolCreateInfo(vk::CommandPoolCreateFlagBits::eResetCommandBuffer, queue_family_));
   staging_ = std::make_unique<StagingPool>(*this);
 }
@@ -270,6 +284,7 @@ Context::Context(const ContextOptions& options)
 Context::Context(const ExternalVulkan& external, const ContextOptions& options)
     : external_(true),
       messages_(std::make_unique<Messages>()),
+      vk_(std::make_unique<Vulkan>()),
       hidden_memory_(options.hidden_memory) {
   if (!external.instance || !external.physical_device || !external.device) {
     throw GpuError(std::string("external Vulkan: the ") +
@@ -280,7 +295,7 @@ Context::Context(const ExternalVulkan& external, const ContextOptions& options)
   }
   // Wrapped, not created: the destructor releases these without destroying them, and so does
   // this guard if a check below throws (the members would otherwise destroy the app's handles).
-  instance_ = vk::raii::Instance(context_, external.instance);
+  vk_->instance = vk::raii::Instance(vk_->context, external.instance);
   struct ReleaseOnThrow {
     Context* context;
     bool armed = true;
@@ -288,18 +303,18 @@ Context::Context(const ExternalVulkan& external, const ContextOptions& options)
       if (armed) context->release_external();
     }
   } guard{this};
-  physical_device_ = vk::raii::PhysicalDevice(instance_, external.physical_device);
+  vk_->physical_device = vk::raii::PhysicalDevice(vk_->instance, external.physical_device);
   int index = 0;  // the device's place in the loader's order, as list_devices() numbers it
-  for (const auto& d : instance_.enumeratePhysicalDevices()) {
+  for (const auto& d : vk_->instance.enumeratePhysicalDevices()) {
     if (*d == vk::PhysicalDevice(external.physical_device)) break;
     ++index;
   }
-  info_ = describe(physical_device_, index);
-  const std::uint32_t api = physical_device_.getProperties().apiVersion;
+  info_ = describe(vk_->physical_device, index);
+  const std::uint32_t api = vk_->physical_device.getProperties().apiVersion;
   if (VK_API_VERSION_MAJOR(api) == 1 && VK_API_VERSION_MINOR(api) < 1)
     throw GpuError("external Vulkan: " + info_.name + " supports Vulkan " + info_.api_version +
                    "; the SDK's kernels need 1.1");
-  const auto families = physical_device_.getQueueFamilyProperties();
+  const auto families = vk_->physical_device.getQueueFamilyProperties();
   if (external.queue_family >= families.size() ||
       !(families[external.queue_family].queueFlags & vk::QueueFlagBits::eCompute) ||
       external.queue_index >= families[external.queue_family].queueCount) {
@@ -312,11 +327,11 @@ Context::Context(const ExternalVulkan& external, const ContextOptions& options)
   info_.buffer_array_indexing =
       info_.buffer_array_indexing && external.storage_buffer_array_dynamic_indexing;
   queue_family_ = external.queue_family;
-  memory_properties_ = physical_device_.getMemoryProperties();
-  device_ = vk::raii::Device(physical_device_, external.device);
-  queue_ = vk::raii::Queue(device_, queue_family_, external.queue_index);
-  command_pool_ = vk::raii::CommandPool(
-      device_,
+  vk_->memory_properties = vk_->physical_device.getMemoryProperties();
+  vk_->device = vk::raii::Device(vk_->physical_device, external.device);
+  vk_->queue = vk::raii::Queue(vk_->device, queue_family_, external.queue_index);
+  vk_->command_pool = vk::raii::CommandPool(
+      vk_->device,
       vk::CommandPoolCreateInfo(vk::CommandPoolCreateFlagBits::eResetCommandBuffer, queue_family_));
   staging_ = std::make_unique<StagingPool>(*this);
   guard.armed = false;
@@ -326,9 +341,9 @@ void Context::release_external() noexcept {
   // What the SDK made on the app's device goes first, while the device's dispatcher is alive;
   // then the app's handles are let go without being destroyed.
   staging_.reset();
-  command_pool_.clear();
-  (void)device_.release();
-  (void)instance_.release();
+  vk_->command_pool.clear();
+  (void)vk_->device.release();
+  (void)vk_->instance.release();
 }
 
 Context::~Context() {
@@ -336,11 +351,18 @@ Context::~Context() {
   // throw: the members are destroyed either way. An app's device is not waited on (every SDK
   // submission has been waited for already, and the app's own work is not the SDK's business).
   try {
-    if (*device_ && !external_) device_.waitIdle();
+    if (*vk_->device && !external_) vk_->device.waitIdle();
   } catch (...) {
   }
   if (external_) release_external();
 }
+
+const vk::raii::Device& Context::device() const { return vk_->device; }
+const vk::raii::PhysicalDevice& Context::physical_device() const { return vk_->physical_device; }
+const vk::raii::Queue& Context::queue() const { return vk_->queue; }
+VkDevice Context::vk_device() const { return *vk_->device; }
+VkPhysicalDevice Context::vk_physical_device() const { return *vk_->physical_device; }
+VkQueue Context::vk_queue() const { return *vk_->queue; }
 
 std::vector<std::string> Context::take_validation_messages() {
   const std::lock_guard lock(messages_->mutex);
@@ -348,10 +370,10 @@ std::vector<std::string> Context::take_validation_messages() {
 }
 
 MemoryChoice Context::choose_memory(std::uint32_t type_bits, MemoryUse use,
-                                    vk::DeviceSize bytes) const {
+                                    VkDeviceSize bytes) const {
   using Flag = vk::MemoryPropertyFlagBits;
-  const auto& types = memory_properties_.memoryTypes;
-  const auto& heaps = memory_properties_.memoryHeaps;
+  const auto& types = vk_->memory_properties.memoryTypes;
+  const auto& heaps = vk_->memory_properties.memoryHeaps;
   // A type's properties as this use sees them, less what is hidden. With device_host hidden a
   // type that is both is seen as device-only by compute memory and as host-only by staging.
   const auto seen = [&](std::uint32_t i) {
@@ -364,7 +386,7 @@ MemoryChoice Context::choose_memory(std::uint32_t type_bits, MemoryUse use,
     return flags;
   };
   vk::DeviceSize largest_device_heap = 0;
-  for (std::uint32_t h = 0; h < memory_properties_.memoryHeapCount; ++h)
+  for (std::uint32_t h = 0; h < vk_->memory_properties.memoryHeapCount; ++h)
     if (heaps[h].flags & vk::MemoryHeapFlagBits::eDeviceLocal)
       largest_device_heap = std::max(largest_device_heap, heaps[h].size);
   // Rank of type i for this use, lower is better; -1 where it does not qualify.
@@ -393,7 +415,7 @@ MemoryChoice Context::choose_memory(std::uint32_t type_bits, MemoryUse use,
   };
   std::int64_t best = -1;
   int best_rank = 0;
-  for (std::uint32_t i = 0; i < memory_properties_.memoryTypeCount; ++i) {
+  for (std::uint32_t i = 0; i < vk_->memory_properties.memoryTypeCount; ++i) {
     if (!(type_bits & (1u << i))) continue;
     const int r = rank(i);
     if (r >= 0 && (best < 0 || r < best_rank)) {
@@ -424,23 +446,25 @@ void Context::run_commands(
     const std::function<void(const vk::raii::CommandBuffer&)>& record) const {
   const std::lock_guard lock(locks_->command_pool);
   vk::raii::CommandBuffers buffers(
-      device_, vk::CommandBufferAllocateInfo(*command_pool_, vk::CommandBufferLevel::ePrimary, 1));
+      vk_->device,
+      vk::CommandBufferAllocateInfo(*vk_->command_pool, vk::CommandBufferLevel::ePrimary, 1));
   const vk::raii::CommandBuffer& cmd = buffers[0];
   cmd.begin(vk::CommandBufferBeginInfo(vk::CommandBufferUsageFlagBits::eOneTimeSubmit));
   record(cmd);
   cmd.end();
-  const vk::raii::Fence fence(device_, vk::FenceCreateInfo());
+  const vk::raii::Fence fence(vk_->device, vk::FenceCreateInfo());
   const vk::CommandBuffer raw = *cmd;
   if (CommandLog* log = command_log()) log->add_round_trip(CommandLog::kTransferStage);
   submit(raw, *fence);
-  if (device_.waitForFences(*fence, VK_TRUE, UINT64_MAX) != vk::Result::eSuccess) {
+  if (vk_->device.waitForFences(*fence, VK_TRUE, UINT64_MAX) != vk::Result::eSuccess) {
     throw GpuError("waiting for the GPU failed");
   }
 }
 
-void Context::submit(vk::CommandBuffer commands, vk::Fence fence) const {
+void Context::submit(VkCommandBuffer commands, VkFence fence) const {
   const std::lock_guard lock(locks_->queue);
-  queue_.submit(vk::SubmitInfo({}, {}, commands), fence);
+  const vk::CommandBuffer command(commands);
+  vk_->queue.submit(vk::SubmitInfo({}, {}, command), vk::Fence(fence));
 }
 
 }  // namespace omnisweep::gpu

@@ -8,6 +8,7 @@
 #include <mutex>
 
 #include "omnisweep/gpu/context.h"
+#include "omnisweep/gpu/vulkan.h"
 
 namespace omnisweep::gpu {
 

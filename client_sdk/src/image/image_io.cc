@@ -34,7 +34,7 @@ bool is_exr(const std::filesystem::path& path) {
 }
 
 template <typename T>
-Image<T> rgb_from_mat(const cv::Mat& mat) {
+Image<T, 3> rgb_from_mat(const cv::Mat& mat) {
   cv::Mat rgb;
   switch (mat.channels()) {
     case 1:
@@ -49,7 +49,7 @@ Image<T> rgb_from_mat(const cv::Mat& mat) {
     default:
       break;
   }
-  Image<T> out(mat.cols, mat.rows, 3);
+  Image<T, 3> out(mat.cols, mat.rows);
   for (int y = 0; y < mat.rows; ++y) {
     std::memcpy(out.view().row(y), rgb.ptr<T>(y), sizeof(T) * 3 * mat.cols);
   }
@@ -72,7 +72,7 @@ std::vector<FloatImage> read_exr_channels(const std::filesystem::path& path,
     for (const std::string& name : names) {
       if (!file.header().channels().findChannel(name))
         fail(path, "EXR has no channel '" + name + "'");
-      out.emplace_back(width, height, 1);
+      out.emplace_back(width, height);
       char* origin =
           reinterpret_cast<char*>(out.back().data()) -
           (std::ptrdiff_t(window.min.y) * width + window.min.x) * std::ptrdiff_t(sizeof(float));
@@ -112,7 +112,7 @@ AnyImage read_color_image(const std::filesystem::path& path) {
                      }) == 3;
     if (!rgb && names.size() != 1) fail(path, "EXR colour image needs R, G, B or a single channel");
     auto channels = read_exr_channels(path, rgb ? std::vector<std::string>{"R", "G", "B"} : names);
-    Image<float> out(channels[0].width(), channels[0].height(), 3);
+    RgbFloatImage out(channels[0].width(), channels[0].height());
     for (std::size_t i = 0; i < channels[0].size(); ++i) {
       for (int c = 0; c < 3; ++c) out.data()[i * 3 + c] = channels[rgb ? c : 0].data()[i];
     }
@@ -139,7 +139,7 @@ Gray8Image read_gray8_image(const std::filesystem::path& path) {
   require_readable_file(path);
   const cv::Mat mat = cv::imread(path.string(), cv::IMREAD_GRAYSCALE);
   if (mat.empty()) fail(path, "cannot decode image (unsupported or corrupt file)");
-  Gray8Image out(mat.cols, mat.rows, 1);
+  Gray8Image out(mat.cols, mat.rows);
   for (int y = 0; y < mat.rows; ++y) std::memcpy(out.view().row(y), mat.ptr(y), mat.cols);
   return out;
 }
@@ -155,14 +155,15 @@ FloatImage read_exr(const std::filesystem::path& path) {
   return std::move(read_exr_channels(path, {has_y ? std::string("Y") : names[0]})[0]);
 }
 
-void write_png(const std::filesystem::path& path, const Image<std::uint8_t>& image,
-               int compression) {
-  if (image.channels() != 1 && image.channels() != 3)
-    fail(path, "PNG writer takes 1 or 3 channels");
-  cv::Mat wrapped(image.height(), image.width(), CV_8UC(image.channels()),
+namespace {
+
+template <int Channels>
+void write_png_of(const std::filesystem::path& path, ImageView<const std::uint8_t, Channels> image,
+                  int compression) {
+  cv::Mat wrapped(image.height(), image.width(), CV_8UC(Channels),
                   const_cast<std::uint8_t*>(image.data()));
   cv::Mat bgr;
-  if (image.channels() == 3) {
+  if constexpr (Channels == 3) {
     cv::cvtColor(wrapped, bgr, cv::COLOR_RGB2BGR);
   } else {
     bgr = wrapped;
@@ -176,8 +177,37 @@ void write_png(const std::filesystem::path& path, const Image<std::uint8_t>& ima
   if (!ok) fail(path, "cannot write PNG");
 }
 
-void write_exr(const std::filesystem::path& path, const FloatImage& image) {
-  if (image.channels() != 1) fail(path, "EXR writer takes one channel");
+template <int Channels>
+Image<std::uint8_t, Channels> resize_area_of(ImageView<const std::uint8_t, Channels> image,
+                                             int width, int height) {
+  if (width <= 0 || height <= 0) throw ImageIoError("resize_area: target size must be positive");
+  const cv::Mat src(image.height(), image.width(), CV_8UC(Channels),
+                    const_cast<std::uint8_t*>(image.data()));
+  Image<std::uint8_t, Channels> out(width, height);
+  cv::Mat dst(height, width, CV_8UC(Channels), out.data());
+  cv::resize(src, dst, dst.size(), 0, 0, cv::INTER_AREA);
+  return out;
+}
+
+}  // namespace
+
+void write_png(const std::filesystem::path& path, Rgb8View image, int compression) {
+  write_png_of(path, image, compression);
+}
+
+void write_png(const std::filesystem::path& path, Gray8View image, int compression) {
+  write_png_of(path, image, compression);
+}
+
+Rgb8Image resize_area(Rgb8View image, int width, int height) {
+  return resize_area_of(image, width, height);
+}
+
+Gray8Image resize_area(Gray8View image, int width, int height) {
+  return resize_area_of(image, width, height);
+}
+
+void write_exr(const std::filesystem::path& path, FloatView image) {
   try {
     Imf::Header header(image.width(), image.height());
     header.channels().insert("Y", Imf::Channel(Imf::FLOAT));
@@ -194,30 +224,19 @@ void write_exr(const std::filesystem::path& path, const FloatImage& image) {
   }
 }
 
-Image<std::uint8_t> resize_area(const Image<std::uint8_t>& image, int width, int height) {
-  if (width <= 0 || height <= 0) throw ImageIoError("resize_area: target size must be positive");
-  const cv::Mat src(image.height(), image.width(), CV_8UC(image.channels()),
-                    const_cast<std::uint8_t*>(image.data()));
-  Image<std::uint8_t> out(width, height, image.channels());
-  cv::Mat dst(height, width, CV_8UC(image.channels()), out.data());
-  cv::resize(src, dst, dst.size(), 0, 0, cv::INTER_AREA);
-  return out;
-}
-
-Gray8Image usable_mask(const Gray8Image& mask, int width, int height) {
+Gray8Image usable_mask(Gray8View mask, int width, int height) {
   const cv::Mat src(mask.height(), mask.width(), CV_8UC1, const_cast<std::uint8_t*>(mask.data()));
   cv::Mat as_float, resized;
   src.convertTo(as_float, CV_32F, 1.0 / 255.0);
   cv::resize(as_float, resized, cv::Size(width, height), 0, 0, cv::INTER_AREA);
-  Gray8Image out(width, height, 1);
+  Gray8Image out(width, height);
   for (int y = 0; y < height; ++y) {
     for (int x = 0; x < width; ++x) out(x, y) = resized.at<float>(y, x) >= 0.9f ? 255 : 0;
   }
   return out;
 }
 
-Rgb8Image colorize_inverse_distance(const FloatImage& inverse_distance,
-                                    float max_inverse_distance) {
+Rgb8Image colorize_inverse_distance(FloatView inverse_distance, float max_inverse_distance) {
   cv::Mat levels(inverse_distance.height(), inverse_distance.width(), CV_8UC1);
   cv::Mat valid(levels.size(), CV_8UC1);
   for (int y = 0; y < levels.rows; ++y) {

@@ -13,7 +13,7 @@ namespace omnisweep::record {
 namespace {
 
 msg::ConfidenceFrame confidence_message(std::uint64_t sequence) {
-  Gray8Image levels(16, 8, 1);
+  Gray8Image levels(16, 8);
   for (std::size_t i = 0; i < levels.size(); ++i) levels.data()[i] = std::uint8_t(i * 3 + sequence);
   msg::ConfidenceFrame c;
   c.sequence_number(sequence);

@@ -14,6 +14,11 @@
 #include "omnisweep/gpu/context.h"
 #include "omnisweep/reproject/reprojector.h"
 
+// What an app includes leaves Vulkan-Hpp (and its NDEBUG rule) out of the app.
+#ifdef VULKAN_HPP
+#error "omnisweep/gpu/context.h or omnisweep/reproject/reprojector.h included Vulkan-Hpp"
+#endif
+
 namespace omnisweep::reproject {
 namespace {
 
@@ -175,8 +180,8 @@ class App {
 
 // A 128x64 panorama: a room of 2 m radius with colour bands, and a near box in front.
 void panorama(Rgb8Image& color, FloatImage& distance) {
-  color = Rgb8Image(128, 64, 3, 0);
-  distance = FloatImage(128, 64, 1, 2.0f);
+  color = Rgb8Image(128, 64);
+  distance = FloatImage::filled(128, 64, 2.0f);
   for (int y = 0; y < 64; ++y) {
     for (int x = 0; x < 128; ++x) {
       color(x, y, 0) = std::uint8_t(2 * x);
@@ -201,7 +206,8 @@ TEST(ExternalVulkan, AnAppsOwnDeviceRendersViewsAndIsLeftWorking) {
   {
     gpu::Context context(app.handles());
     EXPECT_TRUE(context.external());
-    EXPECT_EQ(*context.device(), vk::Device(app.device));
+    EXPECT_EQ(context.vk_device(), app.device);
+    EXPECT_EQ(context.vk_physical_device(), app.physical_device);
     EXPECT_EQ(context.info().storage_16bit, app.storage_16bit);
     Reprojector reprojector(context);
     reprojector.set_panorama(color, distance, Eigen::Vector3d::Zero());

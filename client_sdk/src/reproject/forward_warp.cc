@@ -294,7 +294,7 @@ const gpu::Buffer& ForwardWarper::color_result() const {
 FloatImage ForwardWarper::download(int layer) const {
   if (layer < 0 || layer >= int(layers_.size()))
     throw std::out_of_range("forward warp: no layer " + std::to_string(layer));
-  FloatImage out(int(target().width), int(target().height), 1, 0.0f);
+  FloatImage out(int(target().width), int(target().height));
   std::vector<std::uint32_t> bits(out.size());
   result().download(bits.data(), bits.size() * 4, std::size_t(layer) * bits.size() * 4);
   for (std::size_t i = 0; i < out.size(); ++i) {
@@ -307,7 +307,7 @@ Rgb8Image ForwardWarper::download_color() const {
   if (!options_.color)
     throw std::logic_error("forward warp: download_color needs WarpOptions::color");
   const std::vector<std::uint32_t> packed = color_result().download<std::uint32_t>();
-  Rgb8Image out(int(target().width), int(target().height), 3, 0);
+  Rgb8Image out(int(target().width), int(target().height));
   std::uint8_t* rgb = out.data();
   for (std::size_t p = 0; p < packed.size(); ++p) {
     for (int c = 0; c < 3; ++c) rgb[3 * p + c] = std::uint8_t(packed[p] >> (8 * c));

@@ -28,11 +28,10 @@ void set_pose(GpuCamera* g, const Rigid3d& cam_from_ref) {
 
 }  // namespace
 
-void pack_rgba8(const Rgb8Image& rgb, std::span<std::uint32_t> out) {
+void pack_rgba8(Rgb8View rgb, std::span<std::uint32_t> out) {
   const std::uint8_t* src = rgb.data();
   const std::size_t pixels = std::size_t(rgb.width()) * rgb.height();
-  if (rgb.channels() != 3 || out.size() < pixels)
-    throw std::invalid_argument("pack_rgba8: expects RGB and room for every pixel");
+  if (out.size() < pixels) throw std::invalid_argument("pack_rgba8: no room for every pixel");
   for (std::size_t p = 0; p < pixels; ++p) {
     out[p] = std::uint32_t(src[3 * p]) | (std::uint32_t(src[3 * p + 1]) << 8) |
              (std::uint32_t(src[3 * p + 2]) << 16) | 0xff000000u;

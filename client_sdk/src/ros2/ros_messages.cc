@@ -63,12 +63,11 @@ sensor_msgs::msg::CompressedImage compressed_color(const std_msgs::msg::Header& 
 }
 
 sensor_msgs::msg::CompressedImage compressed_depth(const std_msgs::msg::Header& header,
-                                                   const Image<std::uint16_t>& levels,
+                                                   ImageView<const std::uint16_t> levels,
                                                    const codec::DistanceParams& params,
                                                    int png_level) {
   params.check();
-  if (levels.empty() || levels.channels() != 1)
-    throw std::invalid_argument("compressed_depth: expects a one-channel map of levels");
+  if (levels.empty()) throw std::invalid_argument("compressed_depth: expects a non-empty map");
   // Level l is inverse distance lo + (l - 1) step (codec.h), so distance = 1 / (lo + (l - 1)
   // step) = (1 / step) / (l - (1 - lo / step)): A = 1 / step, B = 1 - lo / step.
   const double lo = 1.0 / params.max_distance, hi = 1.0 / params.min_distance;
@@ -112,7 +111,7 @@ FloatImage decode_compressed_depth(const sensor_msgs::msg::CompressedImage& mess
   const cv::Mat levels = cv::imdecode(png, cv::IMREAD_UNCHANGED);
   if (levels.empty() || levels.type() != CV_16UC1)
     throw std::invalid_argument("compressedDepth: the image is not a 16-bit one-channel PNG");
-  FloatImage out(levels.cols, levels.rows, 1);
+  FloatImage out(levels.cols, levels.rows);
   for (int y = 0; y < levels.rows; ++y)
     for (int x = 0; x < levels.cols; ++x) {
       const std::uint16_t v = levels.at<std::uint16_t>(y, x);
@@ -121,10 +120,8 @@ FloatImage decode_compressed_depth(const sensor_msgs::msg::CompressedImage& mess
   return out;
 }
 
-sensor_msgs::msg::Image distance_image(const std_msgs::msg::Header& header,
-                                       const FloatImage& metres) {
-  if (metres.empty() || metres.channels() != 1)
-    throw std::invalid_argument("distance_image: expects a one-channel map");
+sensor_msgs::msg::Image distance_image(const std_msgs::msg::Header& header, FloatView metres) {
+  if (metres.empty()) throw std::invalid_argument("distance_image: expects a non-empty map");
   sensor_msgs::msg::Image m;
   m.header(header);
   m.width(std::uint32_t(metres.width()));
@@ -141,11 +138,10 @@ sensor_msgs::msg::Image distance_image(const std_msgs::msg::Header& header,
   return m;
 }
 
-sensor_msgs::msg::PointCloud2 point_cloud(const std_msgs::msg::Header& header,
-                                          const FloatImage& metres, const Rgb8Image& color,
-                                          const Eigen::Vector3d& viewpoint, int width, int height) {
-  if (metres.empty() || metres.channels() != 1 || color.channels() != 3 ||
-      color.width() != metres.width() || color.height() != metres.height())
+sensor_msgs::msg::PointCloud2 point_cloud(const std_msgs::msg::Header& header, FloatView metres,
+                                          Rgb8View color, const Eigen::Vector3d& viewpoint,
+                                          int width, int height) {
+  if (metres.empty() || color.width() != metres.width() || color.height() != metres.height())
     throw std::invalid_argument(
         "point_cloud: expects a distance map and a colour image of its size");
   if (width < 1 || height < 1)

@@ -18,7 +18,7 @@ namespace omnisweep::ros2 {
 namespace {
 
 FloatImage test_distance(int w, int h) {
-  FloatImage d(w, h, 1);
+  FloatImage d(w, h);
   std::mt19937 rng(7);
   std::uniform_real_distribution<float> unit(0.0f, 1.0f);
   for (int y = 0; y < h; ++y)
@@ -27,7 +27,7 @@ FloatImage test_distance(int w, int h) {
 }
 
 Rgb8Image test_color(int w, int h) {
-  Rgb8Image im(w, h, 3);
+  Rgb8Image im(w, h);
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) {
       im(x, y, 0) = std::uint8_t(x);

@@ -26,8 +26,8 @@ T cdr_round_trip(const T& message) {
 }
 
 msg::RgbdFrame make_frame(int w, int h) {
-  Rgb8Image rgb(w, h, 3);
-  FloatImage distance(w, h, 1);
+  Rgb8Image rgb(w, h);
+  FloatImage distance(w, h);
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) {
       for (int c = 0; c < 3; ++c) rgb(x, y, c) = std::uint8_t((x * 3 + y * 5 + c * 70) % 256);

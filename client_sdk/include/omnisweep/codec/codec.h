@@ -41,7 +41,7 @@ class ColorCodec {
  public:
   virtual ~ColorCodec() = default;
   virtual std::string name() const = 0;
-  virtual Bytes encode(const Rgb8Image& image) const = 0;
+  virtual Bytes encode(Rgb8View image) const = 0;
   // Throws CodecError unless `payload` is a whole image of width x height.
   virtual Rgb8Image decode(std::span<const std::uint8_t> payload, int width, int height) const = 0;
 };
@@ -65,7 +65,7 @@ class DistanceCodec {
   virtual ~DistanceCodec() = default;
   virtual std::string name() const = 0;
   // `distance` in metres; <= 0 or non-finite means no value and survives as 0.
-  virtual Bytes encode(const FloatImage& distance, const DistanceParams& params) const = 0;
+  virtual Bytes encode(FloatView distance, const DistanceParams& params) const = 0;
   // Throws CodecError unless `payload` holds a width x height map encoded with `params`.
   virtual FloatImage decode(std::span<const std::uint8_t> payload, int width, int height,
                             const DistanceParams& params) const = 0;
@@ -82,7 +82,7 @@ std::vector<float> level_metres(const DistanceParams& params);
 // A width x height distance map in metres from levels as decode_levels() gives them (stored at
 // 1/params.downsample per axis): bit-identical to decode() of the same payload, for a receiver
 // that needs both the levels and the metres without decoding twice.
-FloatImage distance_from_levels(const Image<std::uint16_t>& levels, int width, int height,
+FloatImage distance_from_levels(ImageView<const std::uint16_t> levels, int width, int height,
                                 const DistanceParams& params);
 
 // The per-pixel confidence of a distance panorama, as 8-bit levels (0 = none, 255 = full).
@@ -92,13 +92,13 @@ class ConfidenceCodec {
   virtual std::string name() const = 0;
   // `downsample`: stored at 1/downsample of the resolution per axis (1, 2 or 4; the block means),
   // decoded back to full size by bilinear interpolation.
-  virtual Bytes encode(const Gray8Image& levels, int downsample = 2) const = 0;
+  virtual Bytes encode(Gray8View levels, int downsample = 2) const = 0;
   // Throws CodecError unless `payload` holds a width x height map.
   virtual Gray8Image decode(std::span<const std::uint8_t> payload, int width, int height) const = 0;
 };
 // Confidence in [0, 1] to levels round(255 c) (non-finite: 0), and back (level / 255).
-Gray8Image confidence_levels(const FloatImage& confidence);
-FloatImage confidence_values(const Gray8Image& levels);
+Gray8Image confidence_levels(FloatView confidence);
+FloatImage confidence_values(Gray8View levels);
 
 struct ColorOptions {
   int quality = 90;

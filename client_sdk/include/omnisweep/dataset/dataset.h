@@ -93,15 +93,14 @@ class DatasetWriter {
   // Creates `dir` (and parents) and writes calibration.json.
   DatasetWriter(const std::filesystem::path& dir, const Rig& rig);
 
-  void write_mask(int camera, const Gray8Image& mask) const;
+  void write_mask(int camera, Gray8View mask) const;
   // Writes dataset.json with the fields `hints` has.
   void write_hints(const DatasetHints& hints) const;
   // Writes cam<i>/<name>.png for every camera (8-bit RGB images sized as calibrated).
   void write_images(const std::string& name, const std::vector<Rgb8Image>& images) const;
-  void write_ground_truth(const std::string& name, const Rgb8Image& rgb,
-                          const FloatImage& inverse_distance) const;
+  void write_ground_truth(const std::string& name, Rgb8View rgb, FloatView inverse_distance) const;
   void write_camera_ground_truth(const std::string& name, int camera,
-                                 const FloatImage& inverse_distance) const;
+                                 FloatView inverse_distance) const;
 
  private:
   std::filesystem::path dir_;

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "omnisweep/gpu/context.h"
+#include "omnisweep/gpu/vulkan.h"
 
 namespace omnisweep::gpu {
 

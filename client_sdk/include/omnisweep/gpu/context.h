@@ -1,8 +1,17 @@
 // The Vulkan compute context: a headless instance (no window system), one device chosen by
 // --vk-device / OMNISWEEP_VK_DEVICE (an index or a name substring) or else by type
 // (discrete > integrated > virtual > CPU), one compute queue. Every Vulkan handle has exactly
-// one owner: the vk::raii objects here and in Buffer, Kernel and Sequence.
+// one owner: the vk::raii objects of the context (held privately) and of Buffer, Kernel and
+// Sequence.
+//
+// This header is what an app includes to make a context (with its own Vulkan or without): it
+// needs only the Vulkan C headers, so neither Vulkan-Hpp nor its NDEBUG rule (gpu/vulkan.h)
+// reaches the app. The accessors that return Vulkan-Hpp objects are for the SDK's compute runtime
+// (gpu/buffer.h, kernel.h, sequence.h, which include Vulkan-Hpp); their types are only declared
+// here.
 #pragma once
+
+#include <vulkan/vulkan_core.h>
 
 #include <atomic>
 #include <cstdint>
@@ -13,7 +22,15 @@
 #include <string>
 #include <vector>
 
-#include "omnisweep/gpu/vulkan.h"
+// Declared only (see above); gpu/vulkan.h defines them.
+namespace vk {
+namespace raii {
+class CommandBuffer;
+class Device;
+class PhysicalDevice;
+class Queue;
+}  // namespace raii
+}  // namespace vk
 
 namespace omnisweep::gpu {
 
@@ -120,9 +137,14 @@ class Context {
   Context& operator=(const Context&) = delete;
 
   const DeviceInfo& info() const { return info_; }
-  const vk::raii::Device& device() const { return device_; }
-  const vk::raii::PhysicalDevice& physical_device() const { return physical_device_; }
-  const vk::raii::Queue& queue() const { return queue_; }
+  // The Vulkan-Hpp objects, for the compute runtime (include gpu/vulkan.h to use them).
+  const vk::raii::Device& device() const;
+  const vk::raii::PhysicalDevice& physical_device() const;
+  const vk::raii::Queue& queue() const;
+  // The same as Vulkan C handles (the app's own, for an ExternalVulkan context).
+  VkDevice vk_device() const;
+  VkPhysicalDevice vk_physical_device() const;
+  VkQueue vk_queue() const;
   std::uint32_t queue_family() const { return queue_family_; }
   bool validation_enabled() const { return validation_; }
 
@@ -133,7 +155,7 @@ class Context {
   // memory is device-local, and also host-visible only where that heap is large enough for
   // compute buffers (not a 256 MiB BAR); readback prefers cached host memory, upload coherent.
   // Throws GpuError when no type qualifies.
-  MemoryChoice choose_memory(std::uint32_t type_bits, MemoryUse use, vk::DeviceSize bytes) const;
+  MemoryChoice choose_memory(std::uint32_t type_bits, MemoryUse use, VkDeviceSize bytes) const;
   const HiddenMemory& hidden_memory() const { return hidden_memory_; }
 
   // Bytes of device memory held by live Buffers and Images (and its peak), for memory reports.
@@ -154,7 +176,7 @@ class Context {
   void run_commands(const std::function<void(const vk::raii::CommandBuffer&)>& record) const;
   // Submits to the one queue; thread-safe (Vulkan wants queue access externally synchronised),
   // so stages on different threads (the server's depth and stitch) can share a context.
-  void submit(vk::CommandBuffer commands, vk::Fence fence) const;
+  void submit(VkCommandBuffer commands, VkFence fence) const;
 
  private:
   void release_external() noexcept;  // an ExternalVulkan context's: destroys only what it made
@@ -168,20 +190,15 @@ class Context {
     std::mutex command_pool;  // run_commands' pool (each Sequence has its own)
   };
 
+  struct Vulkan;  // the Vulkan-Hpp objects (context.cc)
+
   bool validation_ = false;
   bool external_ = false;
   std::unique_ptr<Messages> messages_;
   std::unique_ptr<Locks> locks_ = std::make_unique<Locks>();
-  vk::raii::Context context_;
-  vk::raii::Instance instance_{nullptr};
-  vk::raii::DebugUtilsMessengerEXT messenger_{nullptr};
-  vk::raii::PhysicalDevice physical_device_{nullptr};
-  vk::raii::Device device_{nullptr};
-  vk::raii::Queue queue_{nullptr};
-  vk::raii::CommandPool command_pool_{nullptr};
+  std::unique_ptr<Vulkan> vk_;
   std::uint32_t queue_family_ = 0;
   DeviceInfo info_;
-  vk::PhysicalDeviceMemoryProperties memory_properties_;
   HiddenMemory hidden_memory_;
   std::atomic<std::uint64_t> allocated_{0};
   std::atomic<std::uint64_t> peak_allocated_{0};

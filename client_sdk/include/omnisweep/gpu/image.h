@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "omnisweep/gpu/context.h"
+#include "omnisweep/gpu/vulkan.h"
 
 namespace omnisweep::gpu {
 

@@ -12,6 +12,7 @@
 
 #include "omnisweep/gpu/context.h"
 #include "omnisweep/gpu/shaders.h"
+#include "omnisweep/gpu/vulkan.h"
 
 namespace omnisweep::gpu {
 

@@ -23,19 +23,20 @@ Gray8Image read_gray8_image(const std::filesystem::path& path);
 FloatImage read_exr(const std::filesystem::path& path);
 
 // Writes 1-channel (gray) or 3-channel (RGB) 8-bit PNGs; compression 0 (fast) to 9 (small).
-void write_png(const std::filesystem::path& path, const Image<std::uint8_t>& image,
-               int compression = 3);
+void write_png(const std::filesystem::path& path, Rgb8View image, int compression = 3);
+void write_png(const std::filesystem::path& path, Gray8View image, int compression = 3);
 // Writes a 1-channel float32 EXR with channel "Y" (what OpenCV's imwrite produces).
-void write_exr(const std::filesystem::path& path, const FloatImage& image);
+void write_exr(const std::filesystem::path& path, FloatView image);
 
-// Area-averaging resize (OpenCV INTER_AREA), rounded to 8 bits; any channel count.
-Image<std::uint8_t> resize_area(const Image<std::uint8_t>& image, int width, int height);
+// Area-averaging resize (OpenCV INTER_AREA), rounded to 8 bits.
+Rgb8Image resize_area(Rgb8View image, int width, int height);
+Gray8Image resize_area(Gray8View image, int width, int height);
 // ALGORITHM.md §2: a mask resized (area) to width x height and read as [0, 1] is usable where
 // >= 0.9; returns 255 there, else 0.
-Gray8Image usable_mask(const Gray8Image& mask, int width, int height);
+Gray8Image usable_mask(Gray8View mask, int width, int height);
 
 // Maps inverse distance in [0, max_inverse_distance] m^-1 to the turbo colour map (far = dark
 // blue, near = red) for people to look at; non-finite or negative values become black.
-Rgb8Image colorize_inverse_distance(const FloatImage& inverse_distance, float max_inverse_distance);
+Rgb8Image colorize_inverse_distance(FloatView inverse_distance, float max_inverse_distance);
 
 }  // namespace omnisweep

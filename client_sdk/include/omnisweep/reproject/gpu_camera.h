@@ -43,7 +43,7 @@ void check_camera_records(std::size_t records);
 
 // RGB8 pixels as the shaders read them (pixels.glsl): one uint per pixel, r in the lowest
 // byte, alpha 255. `out` must hold width x height values.
-void pack_rgba8(const Rgb8Image& rgb, std::span<std::uint32_t> out);
+void pack_rgba8(Rgb8View rgb, std::span<std::uint32_t> out);
 
 // Every camera of `rig` with its transform from camera `reference`'s frame.
 std::vector<GpuCamera> pack_cameras(const Rig& rig, int reference);

@@ -13,20 +13,22 @@
 // along their +z axis with x right and y down, as the rig's cameras; an equirectangular view
 // uses the ALGORITHM.md §5 convention in the view's axes. Distances are Euclidean, in metres,
 // from the view's centre; 0 where nothing could be filled.
+
+//
+// This header and gpu/context.h are what an app includes: they need the Vulkan C headers only
+// (VkBuffer in ViewBuffers), not Vulkan-Hpp, so the app keeps its own include order and NDEBUG.
 #pragma once
 
+#include <vulkan/vulkan_core.h>
+
+#include <Eigen/Geometry>
 #include <array>
-#include <cstdint>
-#include <map>
-#include <optional>
-#include <utility>
+#include <memory>
 
 #include "omnisweep/camera/pinhole_camera.h"
 #include "omnisweep/geometry/rigid3.h"
-#include "omnisweep/gpu/buffer.h"
-#include "omnisweep/gpu/sequence.h"
+#include "omnisweep/gpu/context.h"
 #include "omnisweep/image/image.h"
-#include "omnisweep/reproject/forward_warp.h"
 
 namespace omnisweep::reproject {
 
@@ -78,15 +80,17 @@ PinholeCamera<double> pinhole_for_fov(int width, int height, double horizontal_f
 class Reprojector {
  public:
   explicit Reprojector(gpu::Context& context, const ReprojectorOptions& options = {});
+  ~Reprojector();
+  Reprojector(Reprojector&&) noexcept;
+  Reprojector& operator=(Reprojector&&) noexcept;
 
   // The panorama to render from: colour (RGB) and distance (metres, 0 = none) of the same
   // width x height, in the rig frame's axes, centred on `viewpoint` (rig frame).
-  void set_panorama(const Rgb8Image& color, const FloatImage& distance,
-                    const Eigen::Vector3d& viewpoint);
+  void set_panorama(Rgb8View color, FloatView distance, const Eigen::Vector3d& viewpoint);
   // The same with the distance's confidence in [0, 1] (RgbdFrame::confidence; empty: none), for
   // ReprojectorOptions::min_confidence.
-  void set_panorama(const Rgb8Image& color, const FloatImage& distance,
-                    const Eigen::Vector3d& viewpoint, const FloatImage& confidence);
+  void set_panorama(Rgb8View color, FloatView distance, const Eigen::Vector3d& viewpoint,
+                    FloatView confidence);
 
   View render_panorama(const Rigid3d& rig_from_view, int width, int height);
   View render_pinhole(const Rigid3d& rig_from_view, const PinholeCamera<double>& camera, int width,
@@ -99,29 +103,11 @@ class Reprojector {
                           int width, int height, const ViewBuffers& out);
 
   // GPU milliseconds of the last render (0 where the device has no timestamps).
-  double last_gpu_ms() const { return last_gpu_ms_; }
+  double last_gpu_ms() const;
 
  private:
-  View render(const GpuCamera& target, int slot, double pixels_per_radian);
-  // Warps, inpaints and samples colour for `target`; returns the warper holding the result and
-  // the distance inpainting passes run.
-  std::pair<ForwardWarper*, int> render_on_gpu(const GpuCamera& target, int slot,
-                                               double pixels_per_radian);
-  int copy_into(const std::pair<ForwardWarper*, int>& rendered, const ViewBuffers& out);
-
-  gpu::Context* context_;
-  ReprojectorOptions options_;
-  std::optional<gpu::Buffer> distance_;
-  std::optional<gpu::Buffer> color_;
-  GpuCamera source_{};
-  Eigen::Vector3d viewpoint_ = Eigen::Vector3d::Zero();
-  double nearest_ = 0;  // the panorama's nearest distance, at least min_distance
-  // One warper per target model, size and slot (cube faces), reused as the pose changes.
-  std::map<std::array<std::uint32_t, 4>, ForwardWarper> warpers_;
-  // One command buffer with its descriptor, command and query pools and fence, created with the
-  // first render and re-recorded for every later one (nothing is allocated per render).
-  std::optional<gpu::Sequence> sequence_;
-  double last_gpu_ms_ = 0;
+  struct State;  // the panorama on the GPU, the warpers and the command buffer (reprojector.cc)
+  std::unique_ptr<State> state_;
 };
 
 }  // namespace omnisweep::reproject

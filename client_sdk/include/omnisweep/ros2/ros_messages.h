@@ -39,7 +39,7 @@ sensor_msgs::msg::CompressedImage compressed_color(const std_msgs::msg::Header& 
 // (DistanceCodec::decode_levels; level 0, no value, decodes to NaN). A = 1 / step and
 // B = 1 - (1 / d_max) / step, step being the inverse distance of one level.
 sensor_msgs::msg::CompressedImage compressed_depth(const std_msgs::msg::Header& header,
-                                                   const Image<std::uint16_t>& levels,
+                                                   ImageView<const std::uint16_t> levels,
                                                    const codec::DistanceParams& params,
                                                    int png_level = 1);
 // Its inverse, as compressed_depth_image_transport decodes it: metres, NaN for no value.
@@ -47,17 +47,16 @@ sensor_msgs::msg::CompressedImage compressed_depth(const std_msgs::msg::Header& 
 FloatImage decode_compressed_depth(const sensor_msgs::msg::CompressedImage& message);
 
 // sensor_msgs/Image "32FC1", little endian, metres; 0 (no value) becomes NaN (REP 117).
-sensor_msgs::msg::Image distance_image(const std_msgs::msg::Header& header,
-                                       const FloatImage& metres);
+sensor_msgs::msg::Image distance_image(const std_msgs::msg::Header& header, FloatView metres);
 
 // sensor_msgs/PointCloud2 in the rig frame: fields x, y, z, rgb (float32 each, rgb packed as
 // 0x00RRGGBB as PCL and RViz read it), organised as the width x height equirectangular grid;
 // each point is the panorama pixel nearest the grid cell's centre (no averaging across edges),
 // viewpoint + distance x that pixel's ray. Pixels with no value give NaN points (is_dense
 // false).
-sensor_msgs::msg::PointCloud2 point_cloud(const std_msgs::msg::Header& header,
-                                          const FloatImage& metres, const Rgb8Image& color,
-                                          const Eigen::Vector3d& viewpoint, int width, int height);
+sensor_msgs::msg::PointCloud2 point_cloud(const std_msgs::msg::Header& header, FloatView metres,
+                                          Rgb8View color, const Eigen::Vector3d& viewpoint,
+                                          int width, int height);
 
 // tf2_msgs/TFMessage for /tf_static: rig -> panorama (the viewpoint, the rig's axes) and
 // rig -> camera<i> (rig_from_cam of each camera).
