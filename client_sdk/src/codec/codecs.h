@@ -4,6 +4,8 @@
 
 #include <cstdint>
 #include <memory>
+#include <string>
+#include <string_view>
 
 #include "omnisweep/codec/codec.h"
 
@@ -12,6 +14,9 @@ namespace omnisweep::codec {
 std::unique_ptr<ColorCodec> make_jpeg_codec(int quality);
 std::unique_ptr<DistanceCodec> make_qinv16_zstd_codec();
 std::unique_ptr<ConfidenceCodec> make_conf8_zstd_codec();
+
+// "<codec name>: ", the start of every error a codec throws.
+inline std::string error_prefix(std::string_view codec) { return std::string(codec) + ": "; }
 
 inline void put_u32(std::uint8_t* p, std::uint32_t v) {
   for (int i = 0; i < 4; ++i) p[i] = std::uint8_t(v >> (8 * i));

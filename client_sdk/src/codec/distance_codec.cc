@@ -30,9 +30,6 @@
 namespace omnisweep::codec {
 namespace {
 
-// "<codec name>: ", the start of every error this codec throws.
-std::string error_prefix() { return std::string(kQinv16Zstd) + ": "; }
-
 constexpr char kMagic[4] = {'O', 'S', 'Q', '4'};
 constexpr std::size_t kFixedHeader = 16;
 constexpr std::uint64_t kMaxPixels = std::uint64_t(1) << 26;
@@ -300,7 +297,7 @@ void reconstruct(std::span<const std::uint8_t> content,
   const std::uint8_t* escape = p;
   const std::uint8_t* const escape_end = content.data() + content.size();
   auto corrupt = [](const char* what) {
-    throw CodecError(error_prefix() + "corrupt payload: " + what);
+    throw CodecError(error_prefix(kQinv16Zstd) + "corrupt payload: " + what);
   };
   auto byte = [&](int k) {
     if (next[k] == end[k]) corrupt("a context stream is short");
@@ -373,7 +370,7 @@ class QuantisedInverseDistanceCodec final : public DistanceCodec {
 
   Bytes encode(FloatView distance, const DistanceParams& params) const override {
     params.check();
-    if (distance.empty()) throw CodecError(error_prefix() + "expects a non-empty map");
+    if (distance.empty()) throw CodecError(error_prefix(kQinv16Zstd) + "expects a non-empty map");
     const int ds = int(params.downsample);
     const int w = (distance.width() + ds - 1) / ds, h = (distance.height() + ds - 1) / ds;
     const std::lock_guard lock(mutex_);
@@ -383,7 +380,7 @@ class QuantisedInverseDistanceCodec final : public DistanceCodec {
       residual_streams(distance, params, w, bands[i], scratch);
       if (!scratch.cctx) {
         scratch.cctx.reset(ZSTD_createCCtx());
-        if (!scratch.cctx) throw CodecError(error_prefix() + "out of memory");
+        if (!scratch.cctx) throw CodecError(error_prefix(kQinv16Zstd) + "out of memory");
         ZSTD_CCtx_setParameter(scratch.cctx.get(), ZSTD_c_compressionLevel, 1);
         // A 256-entry match table: on these streams the longer matches a larger table finds
         // do not pay for the literals they split (3 % smaller, and faster).
@@ -395,7 +392,7 @@ class QuantisedInverseDistanceCodec final : public DistanceCodec {
           ZSTD_compress2(scratch.cctx.get(), scratch.frame.data(), scratch.frame.size(),
                          scratch.streams.data(), scratch.streams.size());
       if (ZSTD_isError(size))
-        throw CodecError(error_prefix() + "zstd failed: " + ZSTD_getErrorName(size));
+        throw CodecError(error_prefix(kQinv16Zstd) + "zstd failed: " + ZSTD_getErrorName(size));
       scratch.frame.resize(size);
     });
     const std::size_t table = kFixedHeader + kBandEntry * bands.size();
@@ -465,30 +462,32 @@ class QuantisedInverseDistanceCodec final : public DistanceCodec {
     params.check();
     if (payload.size() >= 4 && (std::memcmp(payload.data(), "OSQ2", 4) == 0 ||
                                 std::memcmp(payload.data(), "OSQ3", 4) == 0)) {
-      throw CodecError(error_prefix() + "an " + std::string(payload.begin(), payload.begin() + 4) +
+      throw CodecError(error_prefix(kQinv16Zstd) + "an " +
+                       std::string(payload.begin(), payload.begin() + 4) +
                        " payload from a pre-release omnisweep; this version reads OSQ4");
     }
     if (payload.size() < kFixedHeader || std::memcmp(payload.data(), kMagic, 4) != 0) {
-      throw CodecError(error_prefix() + "not a " + std::string(kQinv16Zstd) + " payload (" +
-                       std::to_string(payload.size()) + " bytes)");
+      throw CodecError(error_prefix(kQinv16Zstd) + "not a " + std::string(kQinv16Zstd) +
+                       " payload (" + std::to_string(payload.size()) + " bytes)");
     }
     if (width <= 0 || height <= 0 || std::uint64_t(width) * height > kMaxPixels) {
-      throw CodecError(error_prefix() + "frame size " + std::to_string(width) + "x" +
+      throw CodecError(error_prefix(kQinv16Zstd) + "frame size " + std::to_string(width) + "x" +
                        std::to_string(height) + " is out of range");
     }
     const int ds = int(params.downsample);
     const int w = (width + ds - 1) / ds, h = (height + ds - 1) / ds;
     if (get_u32(payload.data() + 4) != std::uint32_t(w) ||
         get_u32(payload.data() + 8) != std::uint32_t(h)) {
-      throw CodecError(
-          error_prefix() + "payload holds " + std::to_string(get_u32(payload.data() + 4)) + "x" +
-          std::to_string(get_u32(payload.data() + 8)) + " samples, the frame expects " +
-          std::to_string(w) + "x" + std::to_string(h));
+      throw CodecError(error_prefix(kQinv16Zstd) + "payload holds " +
+                       std::to_string(get_u32(payload.data() + 4)) + "x" +
+                       std::to_string(get_u32(payload.data() + 8)) +
+                       " samples, the frame expects " + std::to_string(w) + "x" +
+                       std::to_string(h));
     }
     const std::vector<Band> bands = bands_of(h);
     if (get_u32(payload.data() + 12) != bands.size() ||
         payload.size() < kFixedHeader + kBandEntry * bands.size()) {
-      throw CodecError(error_prefix() + "corrupt payload: band table does not match " +
+      throw CodecError(error_prefix(kQinv16Zstd) + "corrupt payload: band table does not match " +
                        std::to_string(bands.size()) + " bands");
     }
     std::vector<std::span<const std::uint8_t>> frames;
@@ -498,14 +497,15 @@ class QuantisedInverseDistanceCodec final : public DistanceCodec {
       const std::uint8_t* entry = payload.data() + kFixedHeader + kBandEntry * i;
       const std::size_t size = get_u32(entry);
       if (size > payload.size() - at)
-        throw CodecError(error_prefix() + "payload is truncated (band " + std::to_string(i) + ")");
+        throw CodecError(error_prefix(kQinv16Zstd) + "payload is truncated (band " +
+                         std::to_string(i) + ")");
       frames.push_back(payload.subspan(at, size));
       at += size;
       for (std::size_t k = 0; k < kContexts; ++k) lengths[i][k] = get_u32(entry + 4 + 4 * k);
     }
     if (at != payload.size())
-      throw CodecError(error_prefix() + "corrupt payload: " + std::to_string(payload.size() - at) +
-                       " bytes after the last band");
+      throw CodecError(error_prefix(kQinv16Zstd) + "corrupt payload: " +
+                       std::to_string(payload.size() - at) + " bytes after the last band");
     std::vector<std::uint16_t>& q = levels_;
     q.resize(std::size_t(w) * h);
     on_checked();
@@ -520,7 +520,7 @@ class QuantisedInverseDistanceCodec final : public DistanceCodec {
       if (content == ZSTD_CONTENTSIZE_UNKNOWN || content == ZSTD_CONTENTSIZE_ERROR ||
           content > 4 * std::uint64_t(n) || streams_length > content ||
           (content - streams_length) % 2 != 0) {
-        throw CodecError(error_prefix() + "band " + std::to_string(i) +
+        throw CodecError(error_prefix(kQinv16Zstd) + "band " + std::to_string(i) +
                          " is truncated or its streams do not add up");
       }
       BandScratch& scratch = bands_[i];
@@ -528,12 +528,12 @@ class QuantisedInverseDistanceCodec final : public DistanceCodec {
       streams.resize(content);
       if (!scratch.dctx) {
         scratch.dctx.reset(ZSTD_createDCtx());
-        if (!scratch.dctx) throw CodecError(error_prefix() + "out of memory");
+        if (!scratch.dctx) throw CodecError(error_prefix(kQinv16Zstd) + "out of memory");
       }
       const std::size_t got = ZSTD_decompressDCtx(
           scratch.dctx.get(), streams.data(), streams.size(), frames[i].data(), frames[i].size());
       if (ZSTD_isError(got) || got != streams.size()) {
-        throw CodecError(error_prefix() + "corrupt payload: " +
+        throw CodecError(error_prefix(kQinv16Zstd) + "corrupt payload: " +
                          (ZSTD_isError(got) ? ZSTD_getErrorName(got) : "short"));
       }
       reconstruct(streams, lengths[i], w, bands[i], params.levels, scratch, q.data());
