@@ -13,6 +13,7 @@
 
 #include "omnisweep/geometry/equirectangular.h"
 #include "ros2_msgsPubSubTypes.h"
+#include "tests/support/status_fixture.h"
 
 namespace omnisweep::ros2 {
 namespace {
@@ -153,22 +154,7 @@ TEST(RosMessages, StaticTransformsNameEveryFrame) {
 }
 
 TEST(RosMessages, DiagnosticsCarryTheServersStatus) {
-  msg::ServerStatus status;
-  status.state("running");
-  status.fps_out(29.5f);
-  msg::StageTime t;
-  t.stage("depth");
-  t.ms(12.25f);
-  status.stage_ms({t});
-  msg::DropCount drop;
-  drop.reason("encoder busy");
-  drop.count(3);
-  status.dropped({drop});
-  msg::CameraHealth camera;
-  camera.camera(1);
-  camera.delivering(false);
-  camera.message("no image for 2 s");
-  status.cameras({camera});
+  msg::ServerStatus status = testing::status_message("running", 29.5f, 12.25f, 3);
   const auto m = diagnostics(9, "omnisweep-server: /omnisweep", "omnisweep", status);
   ASSERT_EQ(m.status().size(), 2u);
   EXPECT_EQ(m.status()[0].level(), 0);

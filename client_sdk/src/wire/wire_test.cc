@@ -7,6 +7,7 @@
 
 #include "omnisweep/rig/basalt_calibration.h"
 #include "omnisweep/wire/frame_stats.h"
+#include "tests/support/status_fixture.h"
 #include "tests/support/test_support.h"
 
 namespace omnisweep::wire {
@@ -114,25 +115,10 @@ TEST(Wire, ServerStatesRoundTripTheirWireText) {
 }
 
 TEST(Wire, StatusBecomesPlainValues) {
-  msg::ServerStatus m;
+  msg::ServerStatus m = testing::status_message("source stalled", 3, 120.5f, 9);
   m.time_ns(42);
-  m.state("source stalled");
   m.fps_in(4);
-  m.fps_out(3);
-  msg::StageTime depth;
-  depth.stage("depth");
-  depth.ms(120.5f);
-  m.stage_ms({depth});
-  msg::DropCount drop;
-  drop.reason("encoder busy");
-  drop.count(9);
-  m.dropped({drop});
   m.matched_subscribers(2);
-  msg::CameraHealth camera;
-  camera.camera(1);
-  camera.delivering(false);
-  camera.message("no image for 2 s");
-  m.cameras({camera});
   m.color_quality(80);
   m.frames_over_budget(3);
   const StatusReport r = from_message(m);
