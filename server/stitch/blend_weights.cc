@@ -72,10 +72,12 @@ std::vector<FloatImage> blend_weights(const BlendSetup& s) {
       for (int x = 0; x < pw; ++x) {
         const Eigen::Vector3d dir = cam_from_rig * equirect_direction<double>(x, y, pw, ph);
         Eigen::Vector2d uv, near_px, far_px;
-        // ALGORITHM.md §5 step 3 as written: d_min dir - t_c and d_max dir - t_c.
-        const bool valid = cam.model.project(dir, &uv) &
-                           cam.model.project(s.min_distance * dir - t_c, &near_px) &
-                           cam.model.project(s.max_distance * dir - t_c, &far_px);
+        // ALGORITHM.md §5 step 3 as written: d_min dir - t_c and d_max dir - t_c. All three are
+        // projected (near_px and far_px are used below whether or not they are valid).
+        const bool sees = cam.model.project(dir, &uv);
+        const bool sees_near = cam.model.project(s.min_distance * dir - t_c, &near_px);
+        const bool sees_far = cam.model.project(s.max_distance * dir - t_c, &far_px);
+        const bool valid = sees && sees_near && sees_far;
         near_px = clamp_px(near_px);
         far_px = clamp_px(far_px);
         float weight = 1e-8f;
