@@ -103,12 +103,10 @@ double relative_change_under_gain(gpu::Context& context, MatchingCost cost) {
         for (int k = 0; k < 3; ++k)
           im(x, y, k) = std::uint8_t(std::min(255.0, std::round(im(x, y, k) * gain[k])));
   }
-  std::vector<Rgb8View> changed_views;
-  for (const auto& im : changed) changed_views.push_back(im);
   double change = 0, total = 0;
   for (int slot = 0; slot < 2; ++slot) {
     const auto before = estimator.cost_volume(scene.image_views(), slot, false);
-    const auto after = estimator.cost_volume(changed_views, slot, false);
+    const auto after = estimator.cost_volume(views(changed), slot, false);
     for (std::size_t i = 0; i < before.size(); ++i) {
       change += std::abs(after[i] - before[i]);
       total += before[i];
@@ -160,13 +158,11 @@ TEST_F(MatchingCostTest, PhotometricConditionsAreSurvivedByNadAndByTheCorrection
   const PhotometryFit fit =
       estimate_photometry(changed.rig.rig(), changed.image_views(), changed.usable);
   PhotometricCorrection(changed.rig.rig()).apply(fit, corrected);
-  std::vector<Rgb8View> corrected_views;
-  for (const auto& im : corrected) corrected_views.push_back(im);
 
   const double ad_clean = mae(clean, MatchingCost::kAbsoluteDifference, clean.image_views());
   const double ad = mae(changed, MatchingCost::kAbsoluteDifference, changed.image_views());
   const double nad = mae(changed, MatchingCost::kNormalised, changed.image_views());
-  const double ad_corrected = mae(changed, MatchingCost::kAbsoluteDifference, corrected_views);
+  const double ad_corrected = mae(changed, MatchingCost::kAbsoluteDifference, views(corrected));
   std::cout << "fisheye MAE at 256 px: ad " << ad_clean << " clean, " << ad
             << " through the lenses; nad " << nad << "; ad on corrected images " << ad_corrected
             << "\n";

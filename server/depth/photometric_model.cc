@@ -243,9 +243,7 @@ PhotometricCorrector::PhotometricCorrector(const Rig& matching_rig,
 const PhotometryFit& PhotometricCorrector::correct(std::vector<Rgb8Image>& matching,
                                                    std::vector<Rgb8Image>& color) {
   if (frames_++ % refresh_every_ == 0) {
-    std::vector<Rgb8View> images;
-    for (const auto& im : matching) images.push_back(im);
-    last_ = estimate_photometry(matching_rig_, images, *usable_);
+    last_ = estimate_photometry(matching_rig_, views(matching), *usable_);
   }
   matching_.apply(last_, matching);
   color_.apply(last_, color, references_);
