@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <stdexcept>
+#include <tuple>
 
 #include "omnisweep/reproject/gpu_camera.h"
 
@@ -36,6 +37,25 @@ struct WtaPush {
   float inv_d_min, inv_d_max, d_max;
   std::uint32_t first;
 };
+
+struct AgreementPush {
+  std::uint32_t width, height, level_width, level_height, num_candidates;
+  float inv_d_min, inv_d_max, d_max;
+  std::uint32_t first;
+  float inv_tolerance;
+  std::uint32_t apply;
+};
+constexpr int kAgreementBlock = 4;  // level-1 pixels per block side (coarse_agreement.comp)
+
+// The coarse agreement's block winners: one float per block of 8 x 8 pixels and slot (16 bytes,
+// a placeholder, where it is off).
+std::uint64_t agreement_block_bytes(int width, int height, const DepthOptions& options,
+                                    std::uint32_t slots) {
+  if (options.coarse_agreement <= 0) return 16;
+  const int block = 2 * kAgreementBlock;
+  return std::uint64_t((width + block - 1) / block) * ((height + block - 1) / block) * slots *
+         sizeof(float);
+}
 
 // `layout` with the camera kernels' model constants for `rig`'s cameras.
 gpu::KernelLayout with_rig_model(gpu::KernelLayout layout, const Rig& rig) {
@@ -128,6 +148,10 @@ DepthEstimator::DepthEstimator(gpu::Context& context, const Rig& rig,
       wta_kernel_(
           context, volume_shader(gpu::Shader::kWinnerTakeAll, layout_, /*stores=*/false),
           volume_kernel_layout({BindingSlot::texels(kMaxChunks), 1, 1}, sizeof(WtaPush), layout_)),
+      agreement_kernel_(context,
+                        volume_shader(gpu::Shader::kCoarseAgreement, layout_, /*stores=*/false),
+                        volume_kernel_layout({BindingSlot::texels(kMaxChunks), 1, 1, 1},
+                                             sizeof(AgreementPush), layout_)),
       volume_(context, width_, height_, layout_),
       filter_(context, width_, height_, layout_),
       post_filter_(context, width_, height_, VolumeLayout{1, 1, false, int(slots())}),
@@ -142,6 +166,7 @@ DepthEstimator::DepthEstimator(gpu::Context& context, const Rig& rig,
       selections_(context, std::uint64_t(width_) * height_ * sizeof(std::int32_t) * 2 * slots()),
       distances_(context, width_, height_, VolumeLayout{1, 1, false, int(slots())}),
       confidences_(context, std::uint64_t(width_) * height_ * sizeof(float) * slots()),
+      agreement_blocks_(context, agreement_block_bytes(width_, height_, options, slots())),
       sequence_(context) {
   if (usable.size() != std::size_t(rig.num_cameras()) && !usable.empty()) {
     throw std::invalid_argument("expected one mask (or none) per camera, got " +
@@ -258,6 +283,7 @@ void DepthEstimator::record_group(gpu::Sequence& seq, int first, bool filter, bo
                                      {std::uint32_t(options_.num_candidates), inv_d_min, inv_d_max,
                                       float(options_.max_distance)},
                                      first, first);
+      if (options_.coarse_agreement > 0) record_coarse_agreement(seq, first, false);
     } else {
       filter_.record(seq, guide_, volume_, params, first);
     }
@@ -269,6 +295,36 @@ void DepthEstimator::record_group(gpu::Sequence& seq, int first, bool filter, bo
       WtaPush{std::uint32_t(width_), std::uint32_t(height_), std::uint32_t(options_.num_candidates),
               inv_d_min, inv_d_max, float(options_.max_distance), std::uint32_t(first)},
       wta_kernel_.groups_for(width_, height_, group));
+  seq.barrier();
+}
+
+std::vector<float> DepthEstimator::filter_level_costs(int slot_in_group, int* width,
+                                                      int* height) const {
+  std::tie(*width, *height) = filter_.level_size(1);
+  return filter_.level_volume(1).download(options_.num_candidates, slot_in_group);
+}
+
+void DepthEstimator::record_coarse_agreement(gpu::Sequence& seq, int first, bool apply) {
+  const auto [level_width, level_height] = filter_.level_size(1);
+  const int blocks_x = (level_width + kAgreementBlock - 1) / kAgreementBlock;
+  const int blocks_y = (level_height + kAgreementBlock - 1) / kAgreementBlock;
+  // Each pass binds only what it reads or writes (the cost model counts what is bound): the
+  // level's costs for the winners, the distances and confidences for the factor.
+  const gpu::Texels level = apply
+                                ? gpu::Texels(std::vector<const gpu::Buffer*>(kMaxChunks, &dummy_),
+                                              layout_.texel_format())
+                                : filter_.level_volume(1).texels(dummy_);
+  seq.dispatch(
+      agreement_kernel_,
+      {level, apply ? distances_.chunks()[0] : dummy_, apply ? confidences_ : dummy_,
+       agreement_blocks_},
+      AgreementPush{std::uint32_t(width_), std::uint32_t(height_), std::uint32_t(level_width),
+                    std::uint32_t(level_height), std::uint32_t(options_.num_candidates),
+                    float(1.0 / options_.min_distance), float(1.0 / options_.max_distance),
+                    float(options_.max_distance), std::uint32_t(first),
+                    float(1.0 / options_.coarse_agreement), std::uint32_t(apply)},
+      agreement_kernel_.groups_for(blocks_x, blocks_y,
+                                   apply ? slots() : std::uint32_t(group_size())));
   seq.barrier();
 }
 
@@ -294,6 +350,10 @@ void DepthEstimator::record(gpu::Sequence& seq) {
   for (int first = 0; first < int(slots()); first += group_size())
     record_group(seq, first, true, true);
   if (options_.post_filter) record_post_filter(seq);
+  if (options_.coarse_agreement > 0 && winner_in_filter()) {
+    seq.barrier();
+    record_coarse_agreement(seq, 0, true);  // on the final distances
+  }
   seq.end_stage();
 }
 

@@ -58,6 +58,9 @@ class DepthEstimator {
   // The second camera of each pixel (DepthOptions::match_cameras = 2; -1 = none).
   Image<std::int32_t> second_selection(int slot) const;
   std::vector<float> cost_volume(std::span<const Rgb8View> images, int slot, bool filtered);
+  // The ISB filter's level 1 as the last group of the last estimate() left it (filtered costs of
+  // that group's slot `slot_in_group`, out[p * N + i]), and its size.
+  std::vector<float> filter_level_costs(int slot_in_group, int* width, int* height) const;
   // With a robust cost: camera `camera`'s matching features, as the last cost_volume() or
   // estimate() computed them (width x height, packed as matching_features_cpu packs them).
   std::vector<std::uint32_t> matching_features(int camera) const;
@@ -80,6 +83,9 @@ class DepthEstimator {
   bool robust_cost() const { return options_.cost != MatchingCost::kAbsoluteDifference; }
   // After the filters of every group (the guides as they left them).
   void record_post_filter(gpu::Sequence& seq);
+  // The coarse agreement: after group `first`'s fused filter its blocks' winners (apply false);
+  // once the distances are final, every slot's confidences times it (apply true, first 0).
+  void record_coarse_agreement(gpu::Sequence& seq, int first, bool apply);
   // Whether a full frame's filter ends in winner-takes-all (a last upsample to fuse it into),
   // which leaves the full-resolution guides as the images gave them.
   bool winner_in_filter() const { return filter_.levels() >= 2; }
@@ -97,17 +103,19 @@ class DepthEstimator {
   gpu::Kernel features_kernel_;
   gpu::Kernel sweep_kernel_;
   gpu::Kernel wta_kernel_;
-  CostVolume volume_;      // the full-resolution cost volumes of one group of references
-  IsbFilter filter_;       // their pyramid
-  IsbFilter post_filter_;  // one channel, every reference, for the distance maps
-  gpu::Buffer images_;     // RGBA8 per camera
-  gpu::Buffer features_;   // RGBA8 per camera: matching features (robust costs only)
-  gpu::Buffer guide_;      // per reference slot
+  gpu::Kernel agreement_kernel_;  // the confidence's coarse agreement (coarse_agreement.comp)
+  CostVolume volume_;             // the full-resolution cost volumes of one group of references
+  IsbFilter filter_;              // their pyramid
+  IsbFilter post_filter_;         // one channel, every reference, for the distance maps
+  gpu::Buffer images_;            // RGBA8 per camera
+  gpu::Buffer features_;          // RGBA8 per camera: matching features (robust costs only)
+  gpu::Buffer guide_;             // per reference slot
   gpu::Buffer dummy_;
-  gpu::Buffer cameras_;      // per reference slot, every camera (reproject::pack_cameras)
-  gpu::Buffer selections_;   // per reference slot
-  CostVolume distances_;     // one channel, every reference slot
-  gpu::Buffer confidences_;  // a float plane per reference slot
+  gpu::Buffer cameras_;           // per reference slot, every camera (reproject::pack_cameras)
+  gpu::Buffer selections_;        // per reference slot
+  CostVolume distances_;          // one channel, every reference slot
+  gpu::Buffer confidences_;       // a float plane per reference slot
+  gpu::Buffer agreement_blocks_;  // the coarse agreement's block winners (coarse_agreement.comp)
   gpu::Sequence sequence_;
   std::uint64_t gpu_bytes_ = 0;  // held after construction
 };

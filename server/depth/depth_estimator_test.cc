@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <iostream>
 
 #include "server/depth/depth_fixtures.h"
 #include "server/depth/depth_reference.h"
@@ -113,6 +114,7 @@ TEST_F(DepthEstimatorTest, WinnerTakesAllEqualsCpu) {
   options.matching_width = options.matching_height = 96;
   options.post_filter = false;
   options.half_costs = false;
+  options.coarse_agreement = 0;  // the curve's own confidence
   DepthEstimator estimator(context(), scene.rig.rig(), scene.usable, options);
   const auto filtered = estimator.cost_volume(scene.image_views(), 0, true);
   const DepthResult result = estimator.estimate(scene.image_views());
@@ -140,6 +142,44 @@ TEST_F(DepthEstimatorTest, WinnerTakesAllEqualsCpu) {
             << mean_confidence << "\n";
   EXPECT_LT(worst_confidence, 1e-4);
   EXPECT_GT(mean_confidence, 0.05);  // not all flat
+}
+
+// The coarse agreement (coarse_agreement.comp): the confidence with it is the confidence without
+// it times coarse_agreement_cpu's factor, computed from the filter's level 1 as the GPU left it
+// and the final (post-filtered) distances; the distances stay the same.
+TEST_F(DepthEstimatorTest, CoarseAgreementEqualsCpu) {
+  const auto scene = fixtures::render_depth_case(96);
+  DepthOptions options;
+  options.matching_width = options.matching_height = 96;
+  options.coarse_agreement = 0;
+  DepthEstimator plain(context(), scene.rig.rig(), scene.usable, options);
+  const DepthResult without = plain.estimate(scene.image_views());
+  options.coarse_agreement = 0.05;
+  DepthEstimator estimator(context(), scene.rig.rig(), scene.usable, options);
+  ASSERT_EQ(estimator.group_size(), int(options.references.size()));
+  const DepthResult with = estimator.estimate(scene.image_views());
+  for (int slot = 0; slot < int(options.references.size()); ++slot) {
+    int level_width = 0, level_height = 0;
+    const std::vector<float> level =
+        estimator.filter_level_costs(slot, &level_width, &level_height);
+    EXPECT_EQ(level_width, 48);
+    const std::vector<float> factor =
+        coarse_agreement_cpu(level, level_width, level_height, with.distance[slot], options);
+    double worst = 0, mean_factor = 0;
+    int lowered = 0;
+    for (std::size_t p = 0; p < factor.size(); ++p) {
+      ASSERT_EQ(with.distance[slot].data()[p], without.distance[slot].data()[p]) << p;
+      const float want = without.confidence[slot].data()[p] * factor[p];
+      worst = std::max(worst, double(std::abs(with.confidence[slot].data()[p] - want)));
+      mean_factor += factor[p] / double(factor.size());
+      lowered += factor[p] < 0.5f;
+    }
+    std::cout << "slot " << slot << ": coarse agreement vs CPU, largest difference " << worst
+              << "; mean factor " << mean_factor << ", " << lowered << " pixels below 0.5\n";
+    EXPECT_LT(worst, 1e-5);
+    EXPECT_GT(mean_factor, 0.5);  // most pixels agree with their block
+    EXPECT_GT(lowered, 0);        // and some do not: edges between near and far surfaces
+  }
 }
 
 // The confidence on curves whose answer is known: sqrt(peak ratio x sharpness).

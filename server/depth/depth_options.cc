@@ -57,6 +57,9 @@ void DepthOptions::check(int num_cameras) const {
     fail("census-scale: " + std::to_string(census_scale) + " must be 0 or more");
   if (match_cameras < 1 || match_cameras > 2)
     fail("match-cameras: " + std::to_string(match_cameras) + " must be 1 or 2");
+  if (!(coarse_agreement >= 0) || !std::isfinite(coarse_agreement))
+    fail("coarse-agreement: " + std::to_string(coarse_agreement) +
+         " must be 0 (off) or a positive tolerance in m^-1");
   if (!(second_camera_power > 0 && second_camera_power <= 1))
     fail("second-camera-power: " + std::to_string(second_camera_power) + " must be within (0, 1]");
   if (matching_width < 8 || matching_height < 8 || matching_width > 8192 ||

@@ -62,6 +62,10 @@ struct DepthOptions {
   double feature_epsilon = 4.0;  // added to the window's deviation, 8-bit levels
   int census_radius = 2;         // distance of the census' eight neighbours, pixels
   double census_scale = 24.0;    // cost of one differing census bit
+  // The confidence's coarse agreement (docs/accuracy.md): each pixel's confidence times
+  // exp(-(delta / t)^2), delta (m^-1) between its inverse distance and the winner of the filtered
+  // curves summed over its 8 x 8 block. 0: off (the confidence of the cost curve alone).
+  double coarse_agreement = 0.03;
 
   void check(int num_cameras) const;
   // A radius given for 1024 px at the matching width (at least 1 pixel).

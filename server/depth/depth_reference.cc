@@ -382,4 +382,29 @@ float cost_confidence_cpu(const float* costs, int n) {
   return std::sqrt(ratio * sharpness);
 }
 
+std::vector<float> coarse_agreement_cpu(const std::vector<float>& level, int level_width,
+                                        int level_height, const FloatImage& distance,
+                                        const DepthOptions& options) {
+  constexpr int kBlock = 4;  // level-1 pixels per block side
+  const int n = options.num_candidates;
+  std::vector<float> factor(distance.size(), 0.0f);
+  for (int by = 0; by * kBlock < level_height; ++by) {
+    for (int bx = 0; bx * kBlock < level_width; ++bx) {
+      std::vector<float> sum(std::size_t(n), 0.0f);
+      for (int y = by * kBlock; y < std::min(by * kBlock + kBlock, level_height); ++y)
+        for (int x = bx * kBlock; x < std::min(bx * kBlock + kBlock, level_width); ++x)
+          for (int i = 0; i < n; ++i)
+            sum[std::size_t(i)] += level[(std::size_t(y) * level_width + x) * n + i];
+      const double block_inverse = 1.0 / winner_take_all_cpu(sum.data(), options);
+      for (int y = by * 2 * kBlock; y < std::min((by + 1) * 2 * kBlock, distance.height()); ++y) {
+        for (int x = bx * 2 * kBlock; x < std::min((bx + 1) * 2 * kBlock, distance.width()); ++x) {
+          const double delta = (1.0 / distance(x, y) - block_inverse) / options.coarse_agreement;
+          factor[std::size_t(y) * distance.width() + x] = float(std::exp(-delta * delta));
+        }
+      }
+    }
+  }
+  return factor;
+}
+
 }  // namespace omnisweep::depth

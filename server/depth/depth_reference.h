@@ -68,4 +68,12 @@ float winner_take_all_cpu(const float* costs, const DepthOptions& options);
 // first lowest candidate, one-sided at the ends).
 float cost_confidence_cpu(const float* costs, int n);
 
+// The coarse agreement factor (coarse_agreement.comp) of every pixel of a width x height distance
+// map (metres), from the ISB filter's level 1 (level_width x level_height pixels of N costs,
+// level[p * N + i]): exp(-(delta / options.coarse_agreement)^2), delta between the pixel's inverse
+// distance and the winner of its 8 x 8 block's level-1 curves summed in row order.
+std::vector<float> coarse_agreement_cpu(const std::vector<float>& level, int level_width,
+                                        int level_height, const FloatImage& distance,
+                                        const DepthOptions& options);
+
 }  // namespace omnisweep::depth

@@ -51,6 +51,9 @@ class IsbFilter {
                               int distance_first = 0);
 
   int levels() const { return int(sizes_.size()); }
+  // Level l >= 1 as the last record() left it (filtered, in the volume's layout), and its size.
+  const CostVolume& level_volume(int l) const { return volumes_.at(std::size_t(l) - 1); }
+  std::pair<int, int> level_size(int l) const { return sizes_.at(std::size_t(l)); }
   std::uint64_t bytes() const;
 
  private:

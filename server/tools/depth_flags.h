@@ -82,6 +82,10 @@ inline void add_depth_flags(CLI::App& app, depth::DepthOptions& options, std::st
                  "memory (default 0: all)")
       ->check(CLI::Range(0, 8));
   add_matching_cost_flags(app, options);
+  app.add_option("--coarse-agreement", options.coarse_agreement,
+                 "Lower the confidence where the distance disagrees with its 8x8 block's filtered "
+                 "winner: tolerance in m^-1 (default 0: off; docs/accuracy.md)")
+      ->check(CLI::Range(0.0, 1e3));
   app.add_option(
       "--vk-device", device,
       "Vulkan device: index or name substring (default: OMNISWEEP_VK_DEVICE, else the best)");
