@@ -9,7 +9,8 @@
 //   (wta.glsl) into `block_map`;
 // - `apply` 1, once the distance map is final (after the post-filter, which the comparison
 //   needs): each of the block's pixels' confidence times exp(-(delta / tolerance)^2), delta the
-//   difference between its inverse distance and its block's.
+//   difference between its inverse distance and the block winners' interpolated bilinearly
+//   between block centres.
 // z is the slot; its distances and confidences are plane first + z of `distance_map` and
 // `confidence_map`, its blocks plane first + z of `block_map`.
 layout(local_size_x_id = 100, local_size_y_id = 101, local_size_z_id = 102) in;
@@ -68,12 +69,25 @@ void main() {
         1.0 / wta_distance(wta, push.num_candidates, push.inv_d_min, push.inv_d_max, push.d_max);
     return;
   }
-  const float block_inverse = block_map[block_at];
+  // The blocks' winners interpolated bilinearly between block centres (clamped at the edges),
+  // so that the factor has no steps at block borders.
+  const uint blocks_y = blocks / blocks_x, block_first = (push.first + g.z) * blocks;
   const uint plane = push.width * push.height;
   const uint x_end = min(g.x * 2u * kBlock + 2u * kBlock, push.width);
   const uint y_end = min(g.y * 2u * kBlock + 2u * kBlock, push.height);
   for (uint y = g.y * 2u * kBlock; y < y_end; ++y) {
+    const float v = max((float(y) + 0.5) / float(2u * kBlock) - 0.5, 0.0);
+    const uint y0 = min(uint(v), blocks_y - 1u), y1 = min(y0 + 1u, blocks_y - 1u);
+    const float fy = min(v - float(y0), 1.0);
     for (uint x = g.x * 2u * kBlock; x < x_end; ++x) {
+      const float u = max((float(x) + 0.5) / float(2u * kBlock) - 0.5, 0.0);
+      const uint x0 = min(uint(u), blocks_x - 1u), x1 = min(x0 + 1u, blocks_x - 1u);
+      const float fx = min(u - float(x0), 1.0);
+      const float top = mix(block_map[block_first + y0 * blocks_x + x0],
+                            block_map[block_first + y0 * blocks_x + x1], fx);
+      const float bottom = mix(block_map[block_first + y1 * blocks_x + x0],
+                               block_map[block_first + y1 * blocks_x + x1], fx);
+      const float block_inverse = mix(top, bottom, fy);
       const uint at = (push.first + g.z) * plane + y * push.width + x;
       const float delta = (1.0 / distance_map[at] - block_inverse) * push.inv_tolerance;
       confidence_map[at] *= exp(-delta * delta);

@@ -387,21 +387,35 @@ std::vector<float> coarse_agreement_cpu(const std::vector<float>& level, int lev
                                         const DepthOptions& options) {
   constexpr int kBlock = 4;  // level-1 pixels per block side
   const int n = options.num_candidates;
-  std::vector<float> factor(distance.size(), 0.0f);
-  for (int by = 0; by * kBlock < level_height; ++by) {
-    for (int bx = 0; bx * kBlock < level_width; ++bx) {
+  const int blocks_x = (level_width + kBlock - 1) / kBlock;
+  const int blocks_y = (level_height + kBlock - 1) / kBlock;
+  std::vector<float> winner(std::size_t(blocks_x) * blocks_y);
+  for (int by = 0; by < blocks_y; ++by) {
+    for (int bx = 0; bx < blocks_x; ++bx) {
       std::vector<float> sum(std::size_t(n), 0.0f);
       for (int y = by * kBlock; y < std::min(by * kBlock + kBlock, level_height); ++y)
         for (int x = bx * kBlock; x < std::min(bx * kBlock + kBlock, level_width); ++x)
           for (int i = 0; i < n; ++i)
             sum[std::size_t(i)] += level[(std::size_t(y) * level_width + x) * n + i];
-      const double block_inverse = 1.0 / winner_take_all_cpu(sum.data(), options);
-      for (int y = by * 2 * kBlock; y < std::min((by + 1) * 2 * kBlock, distance.height()); ++y) {
-        for (int x = bx * 2 * kBlock; x < std::min((bx + 1) * 2 * kBlock, distance.width()); ++x) {
-          const double delta = (1.0 / distance(x, y) - block_inverse) / options.coarse_agreement;
-          factor[std::size_t(y) * distance.width() + x] = float(std::exp(-delta * delta));
-        }
-      }
+      winner[std::size_t(by) * blocks_x + bx] = 1.0f / winner_take_all_cpu(sum.data(), options);
+    }
+  }
+  // Bilinear between block centres, clamped at the edges (the shader's float arithmetic).
+  const auto at = [&](int x, int y) { return winner[std::size_t(y) * blocks_x + x]; };
+  std::vector<float> factor(distance.size());
+  for (int y = 0; y < distance.height(); ++y) {
+    const float v = std::max((float(y) + 0.5f) / float(2 * kBlock) - 0.5f, 0.0f);
+    const int y0 = std::min(int(v), blocks_y - 1), y1 = std::min(y0 + 1, blocks_y - 1);
+    const float fy = std::min(v - float(y0), 1.0f);
+    for (int x = 0; x < distance.width(); ++x) {
+      const float u = std::max((float(x) + 0.5f) / float(2 * kBlock) - 0.5f, 0.0f);
+      const int x0 = std::min(int(u), blocks_x - 1), x1 = std::min(x0 + 1, blocks_x - 1);
+      const float fx = std::min(u - float(x0), 1.0f);
+      const float top = at(x0, y0) + (at(x1, y0) - at(x0, y0)) * fx;
+      const float bottom = at(x0, y1) + (at(x1, y1) - at(x0, y1)) * fx;
+      const double delta =
+          (1.0 / distance(x, y) - (top + (bottom - top) * fy)) / options.coarse_agreement;
+      factor[std::size_t(y) * distance.width() + x] = float(std::exp(-delta * delta));
     }
   }
   return factor;
