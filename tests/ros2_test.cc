@@ -64,6 +64,22 @@ class StreamFrames {
     const std::lock_guard lock(mutex_);
     return frames_.size();
   }
+  // A frame sent before this reader matched never reaches it (VOLATILE), and in the sanitizer
+  // build it can match seconds after the server starts: waits for its first frame (until
+  // `deadline`, while the server runs), after which it receives every frame a client then sees.
+  bool wait_for_first(Clock::time_point deadline, BackgroundProcess& server) const {
+    while (size() == 0 && Clock::now() < deadline && server.running())
+      std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    return size() > 0;
+  }
+  // The reader can lag a client by seconds in the sanitizer build: waits (at most 60 s) until it
+  // holds every one of `stamps`.
+  void wait_for(const std::set<std::uint64_t>& stamps) const {
+    const auto deadline = Clock::now() + std::chrono::seconds(60);
+    while (!std::all_of(stamps.begin(), stamps.end(), [&](std::uint64_t t) { return has(t); }) &&
+           Clock::now() < deadline)
+      std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
 
  private:
   dds::StreamCallbacks keep_frames() {
@@ -499,12 +515,7 @@ TEST_F(Ros2Test, FoxgloveClientsSeeTheStreamLive) {
          server.running())
     std::this_thread::sleep_for(std::chrono::milliseconds(50));
   ASSERT_FALSE(match.empty()) << log;
-  // A frame sent before the test's stream reader matched never reaches it (VOLATILE), and in the
-  // sanitizer build it can match seconds after the server starts: wait for its first frame, so it
-  // receives every frame the client is about to see.
-  while (stream.size() == 0 && Clock::now() < deadline && server.running())
-    std::this_thread::sleep_for(std::chrono::milliseconds(50));
-  ASSERT_GT(stream.size(), 0u) << server.log();
+  ASSERT_TRUE(stream.wait_for_first(deadline, server)) << server.log();
   const std::string url = "ws://127.0.0.1:" + match[1].str();
   const std::string client = "node " + (node_dir / "foxglove_client.mjs").string() + " ";
 
@@ -514,18 +525,14 @@ TEST_F(Ros2Test, FoxgloveClientsSeeTheStreamLive) {
   EXPECT_EQ(json["serverInfo"]["name"], "omnisweep");
   EXPECT_EQ(json["channels"].size(), 6u);
   const std::string ns = ros_namespace();
-  // The test's own stream reader can lag the Foxglove client, by seconds in the sanitizer build:
-  // wait until it holds every frame the client saw (at most 60 s), then compare.
+  // The frames the client saw, once the test's own stream reader holds them all, are compared.
   std::set<std::uint64_t> seen;
   for (const auto& m : json["messages"]) {
     const std::string topic = m["topic"];
     if (topic != "/tf_static" && topic != "/diagnostics")
       seen.insert(std::stoull(m["stamp"].get<std::string>()));
   }
-  const auto stream_deadline = Clock::now() + std::chrono::seconds(60);
-  while (!std::all_of(seen.begin(), seen.end(), [&](std::uint64_t t) { return stream.has(t); }) &&
-         Clock::now() < stream_deadline)
-    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  stream.wait_for(seen);
   std::map<std::string, int> checked;
   std::size_t bytes = 0;
   for (const auto& m : json["messages"]) {
@@ -630,12 +637,8 @@ TEST_F(Ros2Test, CycloneDdsReceivesTheStreamsImages) {
   BackgroundProcess server(server_command(), dir_.path() / "server.log");
   const fs::path out = dir_.path() / "cyclone";
   fs::create_directories(out);
-  // The stream reader's first frame first, as in FoxgloveClientsSeeTheStreamLive: then it gets
-  // every frame Cyclone DDS is about to receive.
-  const auto deadline = Clock::now() + std::chrono::seconds(120);
-  while (stream.size() == 0 && Clock::now() < deadline && server.running())
-    std::this_thread::sleep_for(std::chrono::milliseconds(50));
-  ASSERT_GT(stream.size(), 0u) << server.log();
+  ASSERT_TRUE(stream.wait_for_first(Clock::now() + std::chrono::seconds(120), server))
+      << server.log();
   std::string log;
   ASSERT_EQ(run_command(std::string(OMNISWEEP_CYCLONE_SUBSCRIBER) + " " + std::to_string(domain_) +
                             " " + ros_namespace() + " " + out.string() + " 3 120",
@@ -649,12 +652,9 @@ TEST_F(Ros2Test, CycloneDdsReceivesTheStreamsImages) {
     return std::stoull(name.substr(first + 1, second - first - 1)) * 1'000'000'000ull +
            std::stoull(name.substr(second + 1));
   };
-  // The stream reader may lag Cyclone DDS by seconds in the sanitizer build (at most 60 s).
-  const auto stream_deadline = Clock::now() + std::chrono::seconds(60);
-  while (Clock::now() < stream_deadline &&
-         !std::all_of(fs::directory_iterator(out), fs::directory_iterator(),
-                      [&](const fs::directory_entry& e) { return stream.has(stamp_of(e.path())); }))
-    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  std::set<std::uint64_t> written;
+  for (const auto& entry : fs::directory_iterator(out)) written.insert(stamp_of(entry.path()));
+  stream.wait_for(written);
   int colors = 0, distances = 0;
   std::size_t bytes = 0;
   for (const auto& entry : fs::directory_iterator(out)) {
