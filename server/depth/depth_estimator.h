@@ -47,6 +47,10 @@ class DepthEstimator {
   // distance_buffer() once `seq` has run, reference slot k's at float k x width x height, and
   // their confidences likewise in confidence_buffer().
   void upload(std::span<const Rgb8View> images) { upload_images(images); }
+  // The uploaded images, packed RGBA8, camera after camera: a caller may change them in place
+  // (GpuPhotometricCorrection) in `seq` before record().
+  gpu::Buffer& image_buffer() { return images_; }
+  const Rig& rig() const { return rig_; }
   void record(gpu::Sequence& seq);
   const gpu::Buffer& distance_buffer() const;
   const gpu::Buffer& confidence_buffer() const { return confidences_; }

@@ -231,22 +231,12 @@ void PhotometricCorrection::apply(const PhotometryFit& fit, std::vector<Rgb8Imag
 
 PhotometricCorrector::PhotometricCorrector(const Rig& matching_rig,
                                            const std::vector<std::optional<Gray8Image>>& usable,
-                                           const Rig& color_rig, std::vector<int> references,
                                            int refresh_every)
-    : matching_rig_(matching_rig),
-      usable_(&usable),
-      matching_(matching_rig),
-      color_(color_rig),
-      references_(std::move(references)),
-      refresh_every_(std::max(1, refresh_every)) {}
+    : matching_rig_(matching_rig), usable_(&usable), refresh_every_(std::max(1, refresh_every)) {}
 
-const PhotometryFit& PhotometricCorrector::correct(std::vector<Rgb8Image>& matching,
-                                                   std::vector<Rgb8Image>& color) {
-  if (frames_++ % refresh_every_ == 0) {
-    last_ = estimate_photometry(matching_rig_, views(matching), *usable_);
-  }
-  matching_.apply(last_, matching);
-  color_.apply(last_, color, references_);
+const PhotometryFit& PhotometricCorrector::fit(std::span<const Rgb8View> matching) {
+  if (frames_++ % refresh_every_ == 0)
+    last_ = estimate_photometry(matching_rig_, matching, *usable_);
   return last_;
 }
 

@@ -58,6 +58,8 @@ class PhotometricCorrection {
   // in the rig.
   void apply(const PhotometryFit& fit, std::vector<Rgb8Image>& images,
              const std::vector<int>& cameras = {}) const;
+  // Camera `camera`'s table, pixel after pixel: (theta / 110 deg)^2, -1 where it has no ray.
+  const std::vector<float>& angles(int camera) const { return t2_.at(std::size_t(camera)); }
 
  private:
   std::vector<std::vector<float>> t2_;  // per camera and pixel: (theta / 110 deg)^2, -1 = no ray
@@ -65,26 +67,23 @@ class PhotometricCorrection {
 };
 
 // Frame after frame (omnisweep-process, omnisweep-server, DepthOptions::correct_photometry):
-// estimates the responses on the matching images and undoes them there and in the colour images
-// of the references, so the sweep and the panorama's colour both see the scene's own colours.
+// estimates the responses on the matching images, for pipeline::GpuFrame to undo on the GPU in
+// the matching images and in the colour images of the references, so the sweep and the
+// panorama's colour both see the scene's own colours.
 class PhotometricCorrector {
  public:
   // `usable` (at the matching resolution) must outlive this. The responses are estimated on the
   // first frame and again every `refresh_every` frames (exposure and white balance change
-  // slowly; a stream need not pay for the fit every frame), and undone on every frame.
+  // slowly; a stream need not pay for the fit every frame).
   PhotometricCorrector(const Rig& matching_rig,
-                       const std::vector<std::optional<Gray8Image>>& usable, const Rig& color_rig,
-                       std::vector<int> references, int refresh_every = 1);
-  // `matching`: every camera; `color`: the references, at the colour rig's sizes.
-  const PhotometryFit& correct(std::vector<Rgb8Image>& matching, std::vector<Rgb8Image>& color);
+                       const std::vector<std::optional<Gray8Image>>& usable, int refresh_every = 1);
+  // `matching`: every camera, as captured (uncorrected). The fit to undo in this frame.
+  const PhotometryFit& fit(std::span<const Rgb8View> matching);
   const PhotometryFit& last() const { return last_; }
 
  private:
   Rig matching_rig_;
   const std::vector<std::optional<Gray8Image>>* usable_;
-  PhotometricCorrection matching_;
-  PhotometricCorrection color_;
-  std::vector<int> references_;
   int refresh_every_;
   long frames_ = 0;
   PhotometryFit last_;

@@ -91,8 +91,7 @@ struct RgbdServer::Stages {
         confidence_codec(codec::make_confidence_codec(codec::kConf8Zstd)),
         budget(o.jpeg_quality, o.max_frame_bytes) {
     if (o.depth.correct_photometry)
-      photometry.emplace(matching_rig, masks, color_rig, o.depth.references,
-                         /*refresh_every=*/30);  // about once a second
+      photometry.emplace(matching_rig, masks, /*refresh_every=*/30);  // about once a second
   }
 };
 
@@ -259,8 +258,9 @@ void RgbdServer::gpu_loop() {
     std::vector<Rgb8Image> images = depth::matching_images(job.images, options_.depth);
     std::vector<Rgb8Image> color =
         depth::reference_color_images(job.images, stages_->color_rig, options_.depth.references);
-    if (stages_->photometry) stages_->photometry->correct(images, color);
-    job.panorama = stages_->gpu_frame.run(views(images), views(color));
+    const depth::PhotometryFit* photometry =
+        stages_->photometry ? &stages_->photometry->fit(views(images)) : nullptr;
+    job.panorama = stages_->gpu_frame.run(views(images), views(color), photometry);
     job.images.clear();
     double stitch_ms = 0;
     for (const auto& [stage, ms] : job.panorama.stage_ms)

@@ -66,6 +66,11 @@ class Stitcher {
   // round trip between them. `distance` (and `confidence`, laid out the same way, or null) must
   // stay alive until the submission has run.
   void upload_color(std::span<const Rgb8View> color);
+  // The uploaded colour images, packed RGBA8, reference after reference (cameras references()
+  // of color_rig()): a caller may change them in place in `seq` before record().
+  gpu::Buffer& color_buffer() { return color_; }
+  const Rig& color_rig() const { return color_rig_; }
+  const std::vector<int>& references() const { return references_; }
   void record(gpu::Sequence& seq, const gpu::Buffer& distance,
               const gpu::Buffer* confidence = nullptr);
   Panorama download() const;

@@ -9,6 +9,7 @@
 #include "omnisweep/gpu/command_log.h"
 #include "omnisweep/image/image_io.h"
 #include "server/depth/depth_estimator.h"
+#include "server/depth/photometric_model.h"
 #include "server/pipeline/gpu_frame.h"
 #include "server/stitch/blend_weights.h"
 #include "server/stitch/panorama_metrics.h"
@@ -70,24 +71,38 @@ TEST(PanoramaMetrics, IdenticalImagesAndKnownErrors) {
   EXPECT_THROW(evaluate_panorama(a, FloatImage(8, 4), a, inverse), std::invalid_argument);
 }
 
+// Frame 0 of a synthetic rig, with its four camera images and usable masks resized to the
+// matching resolution and depth options for it.
+struct TestFrame {
+  synthetic::SyntheticRig rig;
+  synthetic::SyntheticFrame frame;
+  Rig matching_rig;
+  std::vector<Rgb8Image> images;
+  std::vector<std::optional<Gray8Image>> usable;
+  depth::DepthOptions options;
+};
+TestFrame render(const synthetic::SyntheticRigOptions& rig_options, int matching, int pano_w,
+                 int pano_h) {
+  TestFrame out{synthetic::SyntheticRig(rig_options), {}, {}, {}, {}, {}};
+  out.frame = out.rig.render(0, pano_w, pano_h);
+  out.matching_rig = out.rig.rig().resized(matching, matching);
+  const std::vector<Gray8Image> masks = out.rig.masks();
+  for (int c = 0; c < 4; ++c) {
+    out.images.push_back(resize_area(out.frame.cameras[c].rgb, matching, matching));
+    out.usable.emplace_back(usable_mask(masks[c], matching, matching));
+  }
+  out.options.matching_width = out.options.matching_height = matching;
+  return out;
+}
+
 // (The z-buffer and disocclusion filling are tested on an analytic near-object scene in
 // client_sdk/src/reproject/forward_warp_test.cc.)
 TEST_F(StitcherTest, PanoramaMatchesTheGroundTruth) {
   synthetic::SyntheticRigOptions rig_options;
   rig_options.image_size = 608;
-  const synthetic::SyntheticRig rig(rig_options);
-  const int matching = 512, pano_w = 1024, pano_h = 512;
-  const synthetic::SyntheticFrame frame = rig.render(0, pano_w, pano_h);
-  const Rig matching_rig = rig.rig().resized(matching, matching);
-  std::vector<Rgb8Image> images;
-  std::vector<std::optional<Gray8Image>> usable;
-  const std::vector<Gray8Image> masks = rig.masks();
-  for (int c = 0; c < 4; ++c) {
-    images.push_back(resize_area(frame.cameras[c].rgb, matching, matching));
-    usable.emplace_back(usable_mask(masks[c], matching, matching));
-  }
-  depth::DepthOptions options;
-  options.matching_width = options.matching_height = matching;
+  const int pano_w = 1024, pano_h = 512;
+  const TestFrame test = render(rig_options, 512, pano_w, pano_h);
+  const auto& [rig, frame, matching_rig, images, usable, options] = test;
   depth::DepthEstimator estimator(context(), matching_rig, usable, options);
   std::vector<Rgb8View> image_views;
   for (const auto& im : images) image_views.push_back(im);
@@ -164,6 +179,56 @@ TEST_F(StitcherTest, PanoramaMatchesTheGroundTruth) {
                          pano.distance.pixels().begin()));
   EXPECT_TRUE(std::equal(resident.confidence.pixels().begin(), resident.confidence.pixels().end(),
                          pano.confidence.pixels().begin()));
+}
+
+// --correct-photometry's path: GpuFrame undoes the host's fit on the GPU, in the matching and the
+// colour images, and gives the panorama that the host's own correction (the CPU check) gives.
+TEST_F(StitcherTest, GpuFrameUndoesThePhotometricFitAsTheHostWould) {
+  synthetic::SyntheticRigOptions rig_options;
+  rig_options.image_size = 192;
+  rig_options.photometric = synthetic::PhotometricOptions::realistic();
+  const int pano_w = 256, pano_h = 128;
+  const TestFrame test = render(rig_options, 160, pano_w, pano_h);
+  const auto& [rig, frame, matching_rig, images, usable, options] = test;
+  const std::vector<Rgb8View> color{frame.cameras[2].rgb, frame.cameras[3].rgb};
+  const depth::PhotometryFit fit = depth::estimate_photometry(matching_rig, views(images), usable);
+  std::vector<Rgb8Image> host_images;
+  for (const auto& im : images) host_images.push_back(im.clone());
+  std::vector<Rgb8Image> host_color;
+  for (const int c : options.references) host_color.push_back(frame.cameras[c].rgb.clone());
+  depth::PhotometricCorrection(matching_rig).apply(fit, host_images);
+  depth::PhotometricCorrection(rig.rig()).apply(fit, host_color, options.references);
+
+  depth::DepthEstimator estimator(context(), matching_rig, usable, options);
+  StitchOptions stitch_options;
+  stitch_options.panorama_width = pano_w;
+  stitch_options.panorama_height = pano_h;
+  Stitcher stitcher(context(), matching_rig, rig.rig(), options.references, usable, stitch_options);
+  pipeline::GpuFrame gpu_frame(context(), estimator, stitcher);
+  const Panorama host = gpu_frame.run(views(host_images), views(host_color));
+  const Panorama gpu = gpu_frame.run(views(images), color, &fit);
+  const Panorama raw = gpu_frame.run(views(images), color);
+  auto color_difference = [&](const Panorama& a) {
+    double sum = 0;
+    for (std::size_t i = 0; i < a.rgb.size(); ++i)
+      sum += std::abs(int(a.rgb.data()[i]) - int(host.rgb.data()[i]));
+    return sum / double(a.rgb.size());
+  };
+  auto same_distance = [&](const Panorama& a) {
+    long same = 0;
+    for (std::size_t i = 0; i < a.distance.size(); ++i)
+      same += std::abs(a.distance.data()[i] - host.distance.data()[i]) <=
+              0.01f * host.distance.data()[i];
+    return double(same) / double(a.distance.size());
+  };
+  std::cout << "against the host's correction: colour " << color_difference(gpu)
+            << " levels apart, distance within 1 % on " << 100 * same_distance(gpu)
+            << " % of the pixels; uncorrected: " << color_difference(raw) << " levels, "
+            << 100 * same_distance(raw) << " %\n";
+  EXPECT_LT(color_difference(gpu), 0.5);  // each channel a rounding apart at most
+  EXPECT_GT(same_distance(gpu), 0.98);
+  EXPECT_GT(color_difference(raw), 2.0);  // the fit changes the frame: the check can fail
+  EXPECT_LT(same_distance(raw), same_distance(gpu));
 }
 
 }  // namespace

@@ -137,7 +137,7 @@ Row run(gpu::Context& context, const AccuracySet& set, const Variant& variant,
                              .max_distance = depth_options.max_distance});
   pipeline::GpuFrame gpu_frame(context, estimator, stitcher);
   std::optional<depth::PhotometricCorrector> photometry;
-  if (variant.correct_photometry) photometry.emplace(matching_rig, masks, set.rig, set.references);
+  if (variant.correct_photometry) photometry.emplace(matching_rig, masks);
   Row row;
   std::vector<double> ms;
   gpu::CommandLog log;
@@ -147,10 +147,10 @@ Row run(gpu::Context& context, const AccuracySet& set, const Variant& variant,
     const auto start = std::chrono::steady_clock::now();
     std::vector<Rgb8Image> matching = depth::matching_images(full, depth_options);
     std::vector<Rgb8Image> color = depth::reference_color_images(full, set.rig, set.references);
-    if (photometry) photometry->correct(matching, color);
+    const depth::PhotometryFit* fit = photometry ? &photometry->fit(views(matching)) : nullptr;
     log.clear();
     context.set_command_log(&log);
-    const stitch::Panorama pano = gpu_frame.run(views(matching), views(color));
+    const stitch::Panorama pano = gpu_frame.run(views(matching), views(color), fit);
     context.set_command_log(nullptr);
     ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
                      .count());

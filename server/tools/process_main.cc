@@ -109,8 +109,7 @@ int run(int argc, char** argv) {
                             stitch_options);
   pipeline::GpuFrame gpu_frame(context, estimator, stitcher);
   std::optional<depth::PhotometricCorrector> photometry;
-  if (options.correct_photometry)
-    photometry.emplace(matching_rig, masks, color_rig, options.references);
+  if (options.correct_photometry) photometry.emplace(matching_rig, masks);
   fs::create_directories(output_dir);
   if (!json) {
     std::fprintf(stderr, "device: %s; GPU memory: depth %.1f MiB, stitching %.1f MiB\n",
@@ -136,16 +135,18 @@ int run(int argc, char** argv) {
         std::vector<Rgb8Image> images = depth::matching_images(full, options);
         std::vector<Rgb8Image> color =
             depth::reference_color_images(full, color_rig, options.references);
-        double photometry_ms = 0;
+        double fit_ms = 0;
+        const depth::PhotometryFit* fit = nullptr;
         if (photometry) {
           const auto t = Clock::now();
-          photometry->correct(images, color);
-          photometry_ms = std::chrono::duration<double, std::milli>(Clock::now() - t).count();
+          fit = &photometry->fit(views(images));
+          fit_ms = std::chrono::duration<double, std::milli>(Clock::now() - t).count();
         }
-        // One submission from the images to the panorama: depth stays on the GPU.
-        stitch::Panorama pano = gpu_frame.run(views(images), views(color));
-        // The correction's host time joins the GPU stages, as the stage "photometry".
-        if (photometry) pano.stage_ms.insert(pano.stage_ms.begin(), {"photometry", photometry_ms});
+        // One submission from the images to the panorama: depth stays on the GPU (the fit's
+        // correction too, as the GPU stage "photometry").
+        stitch::Panorama pano = gpu_frame.run(views(images), views(color), fit);
+        // The fit's host time joins the GPU stages, as the stage "photometry_fit".
+        if (photometry) pano.stage_ms.insert(pano.stage_ms.begin(), {"photometry_fit", fit_ms});
         const double ms = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
 
         const FloatImage inverse = reciprocal_or_zero(pano.distance);

@@ -1,0 +1,76 @@
+#include "server/depth/gpu_photometric_correction.h"
+
+#include <array>
+#include <numeric>
+#include <stdexcept>
+#include <string>
+
+namespace omnisweep::depth {
+
+namespace {
+
+struct CorrectionPush {
+  std::uint32_t width, height, images;
+};
+
+std::vector<int> all_or(std::vector<int> cameras, const Rig& rig) {
+  if (!cameras.empty()) return cameras;
+  std::vector<int> all(std::size_t(rig.num_cameras()));
+  std::iota(all.begin(), all.end(), 0);
+  return all;
+}
+
+const RigCamera& first_camera(const Rig& rig, const std::vector<int>& cameras) {
+  if (cameras.empty()) throw std::invalid_argument("photometric correction: no cameras");
+  for (const int c : cameras) {
+    if (c < 0 || c >= rig.num_cameras())
+      throw std::invalid_argument("photometric correction: no camera " + std::to_string(c));
+    if (rig.cameras[c].width != rig.cameras[cameras[0]].width ||
+        rig.cameras[c].height != rig.cameras[cameras[0]].height)
+      throw std::invalid_argument("photometric correction: the cameras must share one size");
+  }
+  return rig.cameras.at(std::size_t(cameras.at(0)));
+}
+
+std::uint64_t pixels(const RigCamera& cam) { return std::uint64_t(cam.width) * cam.height; }
+
+}  // namespace
+
+GpuPhotometricCorrection::GpuPhotometricCorrection(gpu::Context& context, const Rig& rig,
+                                                   std::vector<int> cameras)
+    : cameras_(all_or(std::move(cameras), rig)),
+      width_(first_camera(rig, cameras_).width),
+      height_(first_camera(rig, cameras_).height),
+      kernel_(context, gpu::Shader::kPhotometricCorrection,
+              {.bindings = {1, 1, 1},
+               .push_constant_bytes = sizeof(CorrectionPush),
+               .local_size = {8, 8, 1},
+               .constants = {}}),
+      angles_(context, pixels(first_camera(rig, cameras_)) * 4 * cameras_.size()),
+      responses_(context, sizeof(float) * 8 * cameras_.size()) {
+  const PhotometricCorrection tables(rig);
+  const std::uint64_t bytes = pixels(first_camera(rig, cameras_)) * 4;
+  for (std::size_t k = 0; k < cameras_.size(); ++k)
+    angles_.upload(tables.angles(cameras_[k]).data(), bytes, k * bytes);
+}
+
+void GpuPhotometricCorrection::record(gpu::Sequence& seq, gpu::Buffer& images,
+                                      const PhotometryFit& fit) {
+  std::vector<std::array<float, 8>> responses;
+  for (const int c : cameras_) {
+    if (c >= int(fit.cameras.size()))
+      throw std::invalid_argument("photometric correction: the fit has no camera " +
+                                  std::to_string(c));
+    const CameraPhotometry& r = fit.cameras[std::size_t(c)];
+    responses.push_back({float(1.0 / r.gain[0]), float(1.0 / r.gain[1]), float(1.0 / r.gain[2]),
+                         float(r.b1), float(r.b2), 0.f, 0.f, 0.f});
+  }
+  responses_.upload(responses.data(), responses.size() * sizeof(responses[0]));
+  const CorrectionPush push{std::uint32_t(width_), std::uint32_t(height_),
+                            std::uint32_t(cameras_.size())};
+  seq.dispatch(kernel_, {images, angles_, responses_}, push,
+               kernel_.groups_for(width_, height_, int(cameras_.size())));
+  seq.barrier();
+}
+
+}  // namespace omnisweep::depth
