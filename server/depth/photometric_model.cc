@@ -2,6 +2,7 @@
 
 #include <Eigen/Dense>
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <numbers>
 #include <stdexcept>
@@ -231,12 +232,33 @@ void PhotometricCorrection::apply(const PhotometryFit& fit, std::vector<Rgb8Imag
 
 PhotometricCorrector::PhotometricCorrector(const Rig& matching_rig,
                                            const std::vector<std::optional<Gray8Image>>& usable,
-                                           int refresh_every)
-    : matching_rig_(matching_rig), usable_(&usable), refresh_every_(std::max(1, refresh_every)) {}
+                                           int refresh_every, bool refit_in_background)
+    : matching_rig_(matching_rig),
+      usable_(&usable),
+      refresh_every_(std::max(1, refresh_every)),
+      refit_in_background_(refit_in_background) {}
+
+PhotometricCorrector::~PhotometricCorrector() {
+  if (refit_.valid()) refit_.wait();
+}
+
+void PhotometricCorrector::finish_refit() {
+  if (refit_.valid()) last_ = refit_.get();
+}
 
 const PhotometryFit& PhotometricCorrector::fit(std::span<const Rgb8View> matching) {
-  if (frames_++ % refresh_every_ == 0)
+  using namespace std::chrono_literals;
+  if (refit_.valid() && refit_.wait_for(0s) == std::future_status::ready) last_ = refit_.get();
+  if (frames_++ % refresh_every_ != 0) return last_;
+  if (!refit_in_background_ || frames_ == 1) {
     last_ = estimate_photometry(matching_rig_, matching, *usable_);
+  } else if (!refit_.valid()) {  // (one refit at a time: a slow one skips the next turn)
+    std::vector<Rgb8Image> copies;
+    for (const Rgb8View& image : matching) copies.push_back(Rgb8Image::copy_of(image));
+    refit_ = std::async(std::launch::async, [this, images = std::move(copies)] {
+      return estimate_photometry(matching_rig_, views(images), *usable_);
+    });
+  }
   return last_;
 }
 

@@ -15,6 +15,7 @@
 #pragma once
 
 #include <array>
+#include <future>
 #include <optional>
 #include <vector>
 
@@ -74,19 +75,33 @@ class PhotometricCorrector {
  public:
   // `usable` (at the matching resolution) must outlive this. The responses are estimated on the
   // first frame and again every `refresh_every` frames (exposure and white balance change
-  // slowly; a stream need not pay for the fit every frame).
+  // slowly; a stream need not pay for the fit every frame). With `refit_in_background` (the
+  // server), a refit after the first runs on its own thread on a copy of its frame's images, and
+  // the frames go on with the last fit until it is done, so no frame waits for a fit but the
+  // first; without (omnisweep-process), each fit is its own frame's.
   PhotometricCorrector(const Rig& matching_rig,
-                       const std::vector<std::optional<Gray8Image>>& usable, int refresh_every = 1);
-  // `matching`: every camera, as captured (uncorrected). The fit to undo in this frame.
+                       const std::vector<std::optional<Gray8Image>>& usable, int refresh_every = 1,
+                       bool refit_in_background = false);
+  ~PhotometricCorrector();  // waits for a refit still running
+  PhotometricCorrector(const PhotometricCorrector&) = delete;
+  PhotometricCorrector& operator=(const PhotometricCorrector&) = delete;
+
+  // `matching`: every camera, as captured (uncorrected). The fit to undo in this frame; it stays
+  // valid until the next call.
   const PhotometryFit& fit(std::span<const Rgb8View> matching);
   const PhotometryFit& last() const { return last_; }
+  // With refit_in_background: waits for the refit running (if any) and takes its result, so
+  // the next fit() returns it.
+  void finish_refit();
 
  private:
   Rig matching_rig_;
   const std::vector<std::optional<Gray8Image>>* usable_;
   int refresh_every_;
+  bool refit_in_background_;
   long frames_ = 0;
   PhotometryFit last_;
+  std::future<PhotometryFit> refit_;
 };
 
 }  // namespace omnisweep::depth

@@ -98,6 +98,37 @@ TEST(PhotometricModel, CorrectionBringsBackTheScenesColors) {
   EXPECT_LT(after, before / 4);
 }
 
+TEST(PhotometricCorrector, RefitsInTheBackgroundWhileTheFramesGoOn) {
+  const auto clean = render({});
+  const auto changed = render(synthetic::PhotometricOptions::realistic());
+  const PhotometryFit truth =
+      estimate_photometry(changed.rig.rig(), views(changed.images), changed.masks);
+  auto same = [](const PhotometryFit& a, const PhotometryFit& b) {
+    for (std::size_t cam = 0; cam < a.cameras.size(); ++cam) {
+      for (int k = 0; k < 3; ++k)
+        if (std::abs(a.cameras[cam].gain[k] - b.cameras[cam].gain[k]) > 1e-9) return false;
+      if (std::abs(a.cameras[cam].b1 - b.cameras[cam].b1) > 1e-9) return false;
+    }
+    return a.cameras.size() == b.cameras.size();
+  };
+  // In the frame (omnisweep-process): each frame gets its own fit.
+  PhotometricCorrector now(changed.rig.rig(), changed.masks);
+  const PhotometryFit first = now.fit(views(clean.images));
+  EXPECT_TRUE(same(now.fit(views(changed.images)), truth));
+
+  // In the background (omnisweep-server): the first frame waits for its fit; the next frame,
+  // whose refit is due, goes on with the last fit while its own is computed, and the frame after
+  // the refit has finished gets it.
+  PhotometricCorrector background(changed.rig.rig(), changed.masks, /*refresh_every=*/2,
+                                  /*refit_in_background=*/true);
+  EXPECT_TRUE(same(background.fit(views(clean.images)), first));
+  EXPECT_TRUE(same(background.fit(views(changed.images)), first));  // not due
+  EXPECT_TRUE(same(background.fit(views(changed.images)), first));  // due: starts the refit
+  background.finish_refit();
+  EXPECT_TRUE(same(background.fit(views(clean.images)), truth));
+  EXPECT_FALSE(same(first, truth));  // the check can fail
+}
+
 TEST(PhotometricModel, RejectsMismatchedInputs) {
   const auto c = render({}, 64);
   auto images = views(c.images);

@@ -91,7 +91,8 @@ struct RgbdServer::Stages {
         confidence_codec(codec::make_confidence_codec(codec::kConf8Zstd)),
         budget(o.jpeg_quality, o.max_frame_bytes) {
     if (o.depth.correct_photometry)
-      photometry.emplace(matching_rig, masks, /*refresh_every=*/30);  // about once a second
+      photometry.emplace(matching_rig, masks, /*refresh_every=*/30,  // about once a second
+                         /*refit_in_background=*/true);
   }
 };
 
