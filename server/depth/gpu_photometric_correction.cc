@@ -20,6 +20,7 @@ std::vector<int> all_or(std::vector<int> cameras, const Rig& rig) {
   return all;
 }
 
+// The cameras' common size; throws where they have none.
 const RigCamera& first_camera(const Rig& rig, const std::vector<int>& cameras) {
   if (cameras.empty()) throw std::invalid_argument("photometric correction: no cameras");
   for (const int c : cameras) {
@@ -29,10 +30,8 @@ const RigCamera& first_camera(const Rig& rig, const std::vector<int>& cameras) {
         rig.cameras[c].height != rig.cameras[cameras[0]].height)
       throw std::invalid_argument("photometric correction: the cameras must share one size");
   }
-  return rig.cameras.at(std::size_t(cameras.at(0)));
+  return rig.cameras[std::size_t(cameras[0])];
 }
-
-std::uint64_t pixels(const RigCamera& cam) { return std::uint64_t(cam.width) * cam.height; }
 
 }  // namespace
 
@@ -40,18 +39,19 @@ GpuPhotometricCorrection::GpuPhotometricCorrection(gpu::Context& context, const 
                                                    std::vector<int> cameras)
     : cameras_(all_or(std::move(cameras), rig)),
       width_(first_camera(rig, cameras_).width),
-      height_(first_camera(rig, cameras_).height),
+      height_(rig.cameras[std::size_t(cameras_[0])].height),
       kernel_(context, gpu::Shader::kPhotometricCorrection,
               {.bindings = {1, 1, 1},
                .push_constant_bytes = sizeof(CorrectionPush),
                .local_size = {8, 8, 1},
                .constants = {}}),
-      angles_(context, pixels(first_camera(rig, cameras_)) * 4 * cameras_.size()),
+      angles_(context, std::uint64_t(width_) * height_ * 4 * cameras_.size()),
       responses_(context, sizeof(float) * 8 * cameras_.size()) {
-  const PhotometricCorrection tables(rig);
-  const std::uint64_t bytes = pixels(first_camera(rig, cameras_)) * 4;
+  // Only these cameras' tables: a colour rig's other cameras are not corrected here.
+  const std::uint64_t bytes = std::uint64_t(width_) * height_ * 4;
   for (std::size_t k = 0; k < cameras_.size(); ++k)
-    angles_.upload(tables.angles(cameras_[k]).data(), bytes, k * bytes);
+    angles_.upload(vignetting_angles(rig.cameras[std::size_t(cameras_[k])]).data(), bytes,
+                   k * bytes);
 }
 
 void GpuPhotometricCorrection::record(gpu::Sequence& seq, gpu::Buffer& images,

@@ -7,7 +7,7 @@
 #include <cstdlib>
 
 #include "omnisweep/reproject/gpu_camera.h"
-#include "server/synthetic/synthetic_rig.h"
+#include "server/depth/depth_fixtures.h"
 #include "tests/support/gpu_test_support.h"
 
 namespace omnisweep::depth {
@@ -15,25 +15,14 @@ namespace {
 
 using GpuPhotometricCorrectionTest = omnisweep::testing::ValidatedGpuTest;
 
-struct Frame {
-  synthetic::SyntheticRig rig;
-  std::vector<Rgb8Image> images;
-  std::vector<std::optional<Gray8Image>> masks;
-};
-
-Frame render(int size) {
-  synthetic::SyntheticRigOptions options;
-  options.image_size = size;
-  options.photometric = synthetic::PhotometricOptions::realistic();
-  Frame out{synthetic::SyntheticRig(options), {}, {}};
-  synthetic::SyntheticFrame frame = out.rig.render(0, 16, 8);
-  for (auto& cam : frame.cameras) out.images.push_back(std::move(cam.rgb));
-  for (auto& mask : out.rig.masks()) out.masks.emplace_back(std::move(mask));
-  return out;
+// A synthetic frame through realistic lenses, its images at `size` (depth_fixtures).
+fixtures::SyntheticDepthCase render(int size) {
+  return fixtures::render_depth_case(size, 0, 1, synthetic::PhotometricOptions::realistic());
 }
 
 // Corrects `cameras`' images (all when empty) on the GPU and returns them.
-std::vector<Rgb8Image> corrected_on_gpu(gpu::Context& context, const Frame& f,
+std::vector<Rgb8Image> corrected_on_gpu(gpu::Context& context,
+                                        const fixtures::SyntheticDepthCase& f,
                                         const PhotometryFit& fit, const std::vector<int>& cameras) {
   const std::vector<int> list = cameras.empty() ? std::vector<int>{0, 1, 2, 3} : cameras;
   const std::size_t pixels = f.images[0].width() * std::size_t(f.images[0].height());
@@ -60,8 +49,8 @@ std::vector<Rgb8Image> corrected_on_gpu(gpu::Context& context, const Frame& f,
 }
 
 TEST_F(GpuPhotometricCorrectionTest, EqualsCpu) {
-  const Frame f = render(96);
-  const PhotometryFit fit = estimate_photometry(f.rig.rig(), views(f.images), f.masks);
+  const fixtures::SyntheticDepthCase f = render(96);
+  const PhotometryFit fit = estimate_photometry(f.rig.rig(), f.image_views(), f.usable);
   for (const std::vector<int>& cameras : {std::vector<int>{}, std::vector<int>{2, 3}}) {
     std::vector<Rgb8Image> cpu;
     for (const int c : cameras.empty() ? std::vector<int>{0, 1, 2, 3} : cameras)
@@ -83,7 +72,7 @@ TEST_F(GpuPhotometricCorrectionTest, EqualsCpu) {
 }
 
 TEST_F(GpuPhotometricCorrectionTest, RejectsMismatchedInputs) {
-  const Frame f = render(32);
+  const fixtures::SyntheticDepthCase f = render(32);
   EXPECT_THROW(GpuPhotometricCorrection(context(), f.rig.rig(), {0, 7}), std::invalid_argument);
   GpuPhotometricCorrection correction(context(), f.rig.rig(), {0, 3});
   gpu::Buffer buffer(context(), vk::DeviceSize(32) * 32 * 4 * 2);

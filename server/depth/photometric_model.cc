@@ -186,18 +186,22 @@ PhotometryFit estimate_photometry(const Rig& rig, std::span<const Rgb8View> imag
   return fit;
 }
 
+std::vector<float> vignetting_angles(const RigCamera& cam) {
+  std::vector<float> t2(std::size_t(cam.width) * cam.height, -1.0f);
+  for (int v = 0; v < cam.height; ++v) {
+    for (int u = 0; u < cam.width; ++u) {
+      Eigen::Vector3d ray;
+      if (!cam.model.unproject(Eigen::Vector2d(u, v), &ray)) continue;
+      const double t = std::acos(std::clamp(ray.normalized().z(), -1.0, 1.0)) / kReferenceAngle;
+      t2[std::size_t(v) * cam.width + u] = float(t * t);
+    }
+  }
+  return t2;
+}
+
 PhotometricCorrection::PhotometricCorrection(const Rig& rig) {
   for (const RigCamera& cam : rig.cameras) {
-    std::vector<float> t2(std::size_t(cam.width) * cam.height, -1.0f);
-    for (int v = 0; v < cam.height; ++v) {
-      for (int u = 0; u < cam.width; ++u) {
-        Eigen::Vector3d ray;
-        if (!cam.model.unproject(Eigen::Vector2d(u, v), &ray)) continue;
-        const double t = std::acos(std::clamp(ray.normalized().z(), -1.0, 1.0)) / kReferenceAngle;
-        t2[std::size_t(v) * cam.width + u] = float(t * t);
-      }
-    }
-    t2_.push_back(std::move(t2));
+    t2_.push_back(vignetting_angles(cam));
     sizes_.emplace_back(cam.width, cam.height);
   }
 }

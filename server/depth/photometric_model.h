@@ -50,6 +50,10 @@ PhotometryFit estimate_photometry(const Rig& rig, std::span<const Rgb8View> imag
                                   const std::vector<std::optional<Gray8Image>>& usable,
                                   const PhotometryOptions& options = {});
 
+// One camera's (theta / 110 deg)^2 per pixel, pixel after pixel, -1 where it has no ray: the
+// variable of V, for PhotometricCorrection and GpuPhotometricCorrection.
+std::vector<float> vignetting_angles(const RigCamera& camera);
+
 // Undoes the responses of a fit: every pixel divided by its camera's gain and vignetting (and
 // clamped to 255). The per-pixel angles are computed once, for the cameras of `rig`.
 class PhotometricCorrection {
@@ -59,8 +63,6 @@ class PhotometricCorrection {
   // in the rig.
   void apply(const PhotometryFit& fit, std::vector<Rgb8Image>& images,
              const std::vector<int>& cameras = {}) const;
-  // Camera `camera`'s table, pixel after pixel: (theta / 110 deg)^2, -1 where it has no ray.
-  const std::vector<float>& angles(int camera) const { return t2_.at(std::size_t(camera)); }
 
  private:
   std::vector<std::vector<float>> t2_;  // per camera and pixel: (theta / 110 deg)^2, -1 = no ray
