@@ -3,9 +3,18 @@
 // Matching features of every camera image, for the costs that must not depend on a camera's
 // gain, colour cast or vignetting (DepthOptions::cost other than kAbsoluteDifference). One RGBA8
 // texel per pixel:
-// - RGB: each channel normalised by the statistics of its (2 radius + 1)^2 window,
-//   128 + 32 (I - mean) / (std + epsilon), clamped to [0, 255]: a gain, a cast or a smooth
-//   vignetting multiplies I, mean and std alike and leaves it unchanged (up to epsilon).
+// - RGB, nad (push.ratio 0): each channel normalised by the statistics of its
+//   (2 radius + 1)^2 window, 128 + 32 (I - mean) / (std + epsilon), clamped to [0, 255]: a gain,
+//   a cast or a smooth vignetting multiplies I, mean and std alike and leaves it unchanged (up to
+//   epsilon).
+// - RGB, ratio (push.ratio 1): each channel over its neighbourhood's mean,
+//   128 I / (mean + epsilon), clamped to [0, 255]. The mean is Gaussian (sigma radius / 2) over
+//   9 x 9 taps k radius / 4 (integer division) from the pixel, of usable pixels only (the
+//   image's alpha, which DepthEstimator sets from the usable mask for this cost): the black
+//   beyond the image circle
+//   and the rig's own parts would otherwise pull the mean down near them, differently in every
+//   camera. A gain, a cast or a vignetting smooth over the window cancels; the contrast, unlike
+//   nad's, is not raised to unit deviation, so the noise of plain surfaces stays small.
 // - A: an 8-bit census of the luminance: bit k set where the neighbour at census_radius in
 //   direction k (E, NE, N, NW, W, SW, S, SE) is brighter than the pixel by more than 1 level.
 // z is the camera.
@@ -21,13 +30,16 @@ layout(push_constant) uniform Push {
   int radius;
   int census_radius;
   float epsilon;
+  uint ratio;
 } push;
 
-vec3 rgb_at(uint base, int x, int y) {
+uint texel_at(uint base, int x, int y) {
   x = clamp(x, 0, int(push.width) - 1);
   y = clamp(y, 0, int(push.height) - 1);
-  return unpack_rgb(texelFetch(images, int(base + uint(y) * push.width + uint(x))).x);
+  return texelFetch(images, int(base + uint(y) * push.width + uint(x))).x;
 }
+
+vec3 rgb_at(uint base, int x, int y) { return unpack_rgb(texel_at(base, x, y)); }
 
 float luma(vec3 rgb) { return dot(rgb, vec3(0.299, 0.587, 0.114)); }
 
@@ -36,20 +48,37 @@ void main() {
   if (g.x >= push.width || g.y >= push.height) return;
   const uint plane = push.width * push.height, base = g.z * plane;
   const int x = int(g.x), y = int(g.y);
-  vec3 sum = vec3(0.0), sum2 = vec3(0.0);
-  for (int dy = -push.radius; dy <= push.radius; ++dy) {
-    for (int dx = -push.radius; dx <= push.radius; ++dx) {
-      const vec3 v = rgb_at(base, x + dx, y + dy);
-      sum += v;
-      sum2 += v * v;
-    }
-  }
-  const float n = float((2 * push.radius + 1) * (2 * push.radius + 1));
-  const vec3 mean = sum / n;
-  const vec3 deviation = sqrt(max(sum2 / n - mean * mean, vec3(0.0)));
   const vec3 centre = rgb_at(base, x, y);
-  const vec3 normalised = clamp(128.0 + 32.0 * (centre - mean) / (deviation + push.epsilon),
-                                vec3(0.0), vec3(255.0));
+  vec3 normalised;
+  if (push.ratio != 0u) {
+    vec3 sum = vec3(0.0);
+    float weights = 0.0;
+    for (int ky = -4; ky <= 4; ++ky) {
+      for (int kx = -4; kx <= 4; ++kx) {
+        // Integer division truncates towards 0 in GLSL and C++ alike (ratio_features_cpu).
+        const uint t = texel_at(base, x + kx * push.radius / 4, y + ky * push.radius / 4);
+        const float w = (t >> 24) != 0u ? exp(-float(kx * kx + ky * ky) / 8.0) : 0.0;
+        sum += w * unpack_rgb(t);
+        weights += w;
+      }
+    }
+    const vec3 mean = weights > 0.0 ? sum / weights : centre;
+    normalised = clamp(128.0 * centre / (mean + push.epsilon), vec3(0.0), vec3(255.0));
+  } else {
+    vec3 sum = vec3(0.0), sum2 = vec3(0.0);
+    for (int dy = -push.radius; dy <= push.radius; ++dy) {
+      for (int dx = -push.radius; dx <= push.radius; ++dx) {
+        const vec3 v = rgb_at(base, x + dx, y + dy);
+        sum += v;
+        sum2 += v * v;
+      }
+    }
+    const float n = float((2 * push.radius + 1) * (2 * push.radius + 1));
+    const vec3 mean = sum / n;
+    const vec3 deviation = sqrt(max(sum2 / n - mean * mean, vec3(0.0)));
+    normalised = clamp(128.0 + 32.0 * (centre - mean) / (deviation + push.epsilon), vec3(0.0),
+                       vec3(255.0));
+  }
 
   const float c = luma(centre) + 1.0;
   const int r = push.census_radius;

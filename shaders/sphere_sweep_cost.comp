@@ -12,7 +12,7 @@
 // kCost (DepthOptions::cost) chooses the cost. 0: the paper's, above, on the camera images. The
 // others read the matching features instead (matching_features.comp) and interpolate their
 // per-tap differences bilinearly: 1, the L1 difference of the normalised colours; 2, the Hamming
-// distance of the census bytes (x census_scale); 3, their sum.
+// distance of the census bytes (x census_scale); 3, their sum; 4, as 1 on the ratio features.
 layout(local_size_x_id = 100, local_size_y_id = 101, local_size_z_id = 102) in;
 layout(constant_id = 30) const uint kCost = 0u;
 // DepthOptions::match_cameras: 2 also matches against the second camera (selection plane
@@ -62,7 +62,7 @@ vec3 bilinear(uint camera, vec2 uv) {
 float feature_difference(uint features, uint reference) {
   const vec3 d = abs(unpack_rgb(features) - unpack_rgb(reference));
   const float census = float(bitCount((features ^ reference) >> 24));
-  if (kCost == 1u) return d.x + d.y + d.z;
+  if (kCost == 1u || kCost == 4u) return d.x + d.y + d.z;
   if (kCost == 2u) return census * push.census_scale;
   return d.x + d.y + d.z + census * push.census_scale;
 }

@@ -25,6 +25,7 @@ struct FeaturesPush {
   std::uint32_t width, height;
   std::int32_t radius, census_radius;
   float epsilon;
+  std::uint32_t ratio;
 };
 struct SweepPush {
   std::uint32_t width, height, num_cameras, first, num_candidates;
@@ -182,8 +183,10 @@ DepthEstimator::DepthEstimator(gpu::Context& context, const Rig& rig,
           "mask of camera " + std::to_string(c) + " is " + std::to_string(usable[c]->width()) +
           "x" + std::to_string(usable[c]->height()) + ", expected the matching resolution");
     }
-    for (std::size_t p = 0; p < pixels; ++p)
+    for (std::size_t p = 0; p < pixels; ++p) {
       mask_bytes[c * pixels + p] = usable[c]->data()[p] ? 255 : 0;
+      if (!usable[c]->data()[p] && ratio_cost()) unusable_.push_back(c * pixels + p);
+    }
   }
   mask_bytes.resize((mask_bytes.size() + 3) / 4 * 4, 0);
   gpu::Buffer masks(context, mask_bytes.size());
@@ -230,23 +233,32 @@ void DepthEstimator::upload_images(std::span<const Rgb8View> images) {
     }
     reproject::pack_rgba8(im, std::span(packed).subspan(c * pixels, pixels));
   }
+  // The ratio's mean takes usable pixels only: alpha 0 where a camera's mask says unusable.
+  for (std::size_t p = 0; p < unusable_.size(); ++p) packed[unusable_[p]] &= 0x00ffffffu;
   images_.upload(std::span<const std::uint32_t>(packed));
 }
 
 void DepthEstimator::record_guides(gpu::Sequence& seq) {
   GuidePush push{std::uint32_t(width_), std::uint32_t(height_), {}};
   set_references(push, options_.references);
-  seq.dispatch(guide_kernel_, {image_texels(images_), guide_}, push,
+  // The ratio cost's features also guide its filters: their edges are the ones it matched, and
+  // the shading they normalise away would otherwise set the filter's range weights (on
+  // blender-hall MAE 0.049 against 0.063 with the images' guide; docs/accuracy.md).
+  seq.dispatch(guide_kernel_, {image_texels(ratio_cost() ? features_ : images_), guide_}, push,
                guide_kernel_.groups_for(width_, height_, slots()));
 }
 
 void DepthEstimator::record_features(gpu::Sequence& seq) {
-  seq.dispatch(
-      features_kernel_, {image_texels(images_), features_},
-      FeaturesPush{std::uint32_t(width_), std::uint32_t(height_),
-                   options_.scaled_radius(options_.feature_radius),
-                   options_.scaled_radius(options_.census_radius), float(options_.feature_epsilon)},
-      features_kernel_.groups_for(width_, height_, rig_.num_cameras()));
+  seq.dispatch(features_kernel_, {image_texels(images_), features_},
+               ratio_cost() ? FeaturesPush{std::uint32_t(width_), std::uint32_t(height_),
+                                           options_.scaled_radius(options_.ratio_radius),
+                                           options_.scaled_radius(options_.census_radius),
+                                           float(options_.ratio_epsilon), 1}
+                            : FeaturesPush{std::uint32_t(width_), std::uint32_t(height_),
+                                           options_.scaled_radius(options_.feature_radius),
+                                           options_.scaled_radius(options_.census_radius),
+                                           float(options_.feature_epsilon), 0},
+               features_kernel_.groups_for(width_, height_, rig_.num_cameras()));
 }
 
 void DepthEstimator::record_group(gpu::Sequence& seq, int first, bool filter, bool finish) {
@@ -342,11 +354,11 @@ void DepthEstimator::record_post_filter(gpu::Sequence& seq) {
 
 void DepthEstimator::record(gpu::Sequence& seq) {
   seq.begin_stage("filter");
-  record_guides(seq);   // independent of the sweep: the sweep's barrier covers both
-  if (robust_cost()) {  // the sweep's input
+  if (robust_cost()) {  // the sweep's input (and the ratio's guides)
     record_features(seq);
     seq.barrier();
   }
+  record_guides(seq);  // independent of the sweep: the sweep's barrier covers both
   for (int first = 0; first < int(slots()); first += group_size())
     record_group(seq, first, true, true);
   if (options_.post_filter) record_post_filter(seq);
@@ -408,11 +420,11 @@ std::vector<float> DepthEstimator::cost_volume(std::span<const Rgb8View> images,
   upload_images(images);
   const int first = slot / group_size() * group_size();
   sequence_.begin();
-  if (filtered) record_guides(sequence_);
   if (robust_cost()) {
     record_features(sequence_);
     sequence_.barrier();
   }
+  if (filtered) record_guides(sequence_);
   record_group(sequence_, first, filtered, false);
   sequence_.submit_and_wait();
   return volume_.download(options_.num_candidates, slot - first);

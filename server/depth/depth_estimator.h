@@ -85,6 +85,7 @@ class DepthEstimator {
   void record_features(gpu::Sequence& seq);  // the same
   // Whether the sweep compares matching features rather than the images themselves.
   bool robust_cost() const { return options_.cost != MatchingCost::kAbsoluteDifference; }
+  bool ratio_cost() const { return options_.cost == MatchingCost::kRatio; }
   // After the filters of every group (the guides as they left them).
   void record_post_filter(gpu::Sequence& seq);
   // The coarse agreement: after group `first`'s fused filter its blocks' winners (apply false);
@@ -113,7 +114,9 @@ class DepthEstimator {
   IsbFilter post_filter_;         // one channel, every reference, for the distance maps
   gpu::Buffer images_;            // RGBA8 per camera
   gpu::Buffer features_;          // RGBA8 per camera: matching features (robust costs only)
-  gpu::Buffer guide_;             // per reference slot
+  // Texels (camera-major) that the masks say are unusable, for the ratio cost's mean.
+  std::vector<std::uint32_t> unusable_;
+  gpu::Buffer guide_;  // per reference slot
   gpu::Buffer dummy_;
   gpu::Buffer cameras_;           // per reference slot, every camera (reproject::pack_cameras)
   gpu::Buffer selections_;        // per reference slot

@@ -51,6 +51,10 @@ void DepthOptions::check(int num_cameras) const {
     fail("feature-radius: " + std::to_string(feature_radius) + " must be within [1, 16]");
   if (!(feature_epsilon > 0) || !std::isfinite(feature_epsilon))
     fail("feature-epsilon: " + std::to_string(feature_epsilon) + " must be positive");
+  if (ratio_radius < 4 || ratio_radius > 64)
+    fail("ratio-radius: " + std::to_string(ratio_radius) + " must be within [4, 64]");
+  if (!(ratio_epsilon > 0) || !std::isfinite(ratio_epsilon))
+    fail("ratio-epsilon: " + std::to_string(ratio_epsilon) + " must be positive");
   if (census_radius < 1 || census_radius > 16)
     fail("census-radius: " + std::to_string(census_radius) + " must be within [1, 16]");
   if (!(census_scale >= 0) || !std::isfinite(census_scale))

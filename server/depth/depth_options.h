@@ -17,15 +17,17 @@ inline constexpr std::size_t kMaxReferences = 8;
 // The matching cost of the sweep (ALGORITHM.md §3 step 3 is kAbsoluteDifference). The others
 // compare matching features (shaders/matching_features.comp) that a camera's gain, colour cast
 // and a smooth vignetting leave unchanged: colours normalised by the mean and deviation of their
-// window, and an 8-bit census of the luminance. docs/accuracy.md has what each does.
-enum class MatchingCost { kAbsoluteDifference, kNormalised, kCensus, kNormalisedCensus };
+// window, an 8-bit census of the luminance, or colours over their neighbourhood's mean (kRatio).
+// docs/accuracy.md has what each does.
+enum class MatchingCost { kAbsoluteDifference, kNormalised, kCensus, kNormalisedCensus, kRatio };
 inline constexpr struct {
   MatchingCost cost;
   std::string_view name;
 } kMatchingCostNames[] = {{MatchingCost::kAbsoluteDifference, "ad"},
                           {MatchingCost::kNormalised, "nad"},
                           {MatchingCost::kCensus, "census"},
-                          {MatchingCost::kNormalisedCensus, "nad-census"}};
+                          {MatchingCost::kNormalisedCensus, "nad-census"},
+                          {MatchingCost::kRatio, "ratio"}};
 std::string_view name_of(MatchingCost cost);
 std::optional<MatchingCost> matching_cost_named(std::string_view name);
 
@@ -62,6 +64,8 @@ struct DepthOptions {
   double feature_epsilon = 4.0;  // added to the window's deviation, 8-bit levels
   int census_radius = 2;         // distance of the census' eight neighbours, pixels
   double census_scale = 24.0;    // cost of one differing census bit
+  int ratio_radius = 12;         // ratio: its mean's taps reach this far (Gaussian sigma r / 2)
+  double ratio_epsilon = 1.0;    // ratio: added to the mean, 8-bit levels
   // The confidence's coarse agreement (docs/accuracy.md): each pixel's confidence times
   // exp(-(delta / t)^2), delta (m^-1) between its inverse distance and the winner of the filtered
   // curves summed over its 8 x 8 block. 0: off (the confidence of the cost curve alone).

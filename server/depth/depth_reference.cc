@@ -143,14 +143,31 @@ std::vector<float> sweep_cost_cpu(const Rig& rig, int reference, int selected,
   return costs;
 }
 
+namespace {
+
+// The luminance census of pixel (x, y) in the high byte, as matching_features.comp packs it.
+std::uint32_t census_cpu(const Rgb8Image& rgb, int x, int y, int r) {
+  const int w = rgb.width(), h = rgb.height();
+  auto luma = [&](int u, int v) {  // clamped to the image, as the shader
+    const auto c = rgb_at(rgb, std::clamp(u, 0, w - 1), std::clamp(v, 0, h - 1));
+    return 0.299f * c[0] + 0.587f * c[1] + 0.114f * c[2];
+  };
+  const float c = luma(x, y) + 1.0f;
+  const int offsets[8][2] = {{r, 0}, {r, -r}, {0, -r}, {-r, -r}, {-r, 0}, {-r, r}, {0, r}, {r, r}};
+  std::uint32_t census = 0;
+  for (int bit = 0; bit < 8; ++bit) {
+    if (luma(x + offsets[bit][0], y + offsets[bit][1]) > c) census |= 1u << (24 + bit);
+  }
+  return census;
+}
+
+}  // namespace
+
 std::vector<std::uint32_t> matching_features_cpu(const Rgb8Image& rgb, int radius,
                                                  int census_radius, double epsilon) {
   const int w = rgb.width(), h = rgb.height();
   auto at = [&](int x, int y) {  // clamped to the image, as the shader
     return rgb_at(rgb, std::clamp(x, 0, w - 1), std::clamp(y, 0, h - 1));
-  };
-  auto luma = [](const std::array<float, 3>& v) {
-    return 0.299f * v[0] + 0.587f * v[1] + 0.114f * v[2];
   };
   std::vector<std::uint32_t> out(std::size_t(w) * h);
   for (int y = 0; y < h; ++y) {
@@ -167,7 +184,7 @@ std::vector<std::uint32_t> matching_features_cpu(const Rgb8Image& rgb, int radiu
       }
       const double n = double((2 * radius + 1) * (2 * radius + 1));
       const auto centre = at(x, y);
-      std::uint32_t packed = 0;
+      std::uint32_t packed = census_cpu(rgb, x, y, census_radius);
       for (int k = 0; k < 3; ++k) {
         const double mean = sum[k] / n;
         const double deviation = std::sqrt(std::max(sum2[k] / n - mean * mean, 0.0));
@@ -175,12 +192,37 @@ std::vector<std::uint32_t> matching_features_cpu(const Rgb8Image& rgb, int radiu
             std::clamp(128.0 + 32.0 * (centre[k] - mean) / (deviation + epsilon), 0.0, 255.0);
         packed |= std::uint32_t(std::floor(v + 0.5)) << (8 * k);
       }
-      const float c = luma(centre) + 1.0f;
-      const int r = census_radius;
-      const int offsets[8][2] = {{r, 0},  {r, -r}, {0, -r}, {-r, -r},
-                                 {-r, 0}, {-r, r}, {0, r},  {r, r}};
-      for (int bit = 0; bit < 8; ++bit) {
-        if (luma(at(x + offsets[bit][0], y + offsets[bit][1])) > c) packed |= 1u << (24 + bit);
+      out[std::size_t(y) * w + x] = packed;
+    }
+  }
+  return out;
+}
+
+std::vector<std::uint32_t> ratio_features_cpu(const Rgb8Image& rgb, const Gray8Image* usable,
+                                              int radius, int census_radius, double epsilon) {
+  const int w = rgb.width(), h = rgb.height();
+  std::vector<std::uint32_t> out(std::size_t(w) * h);
+  for (int y = 0; y < h; ++y) {
+    for (int x = 0; x < w; ++x) {
+      std::array<double, 3> sum{};
+      double weights = 0;
+      for (int ky = -4; ky <= 4; ++ky) {
+        for (int kx = -4; kx <= 4; ++kx) {
+          const int u = std::clamp(x + kx * radius / 4, 0, w - 1);  // truncated, as the shader
+          const int v = std::clamp(y + ky * radius / 4, 0, h - 1);
+          if (usable && !(*usable)(u, v)) continue;
+          const double weight = std::exp(-(kx * kx + ky * ky) / 8.0);
+          const auto c = rgb_at(rgb, u, v);
+          for (int k = 0; k < 3; ++k) sum[k] += weight * c[k];
+          weights += weight;
+        }
+      }
+      const auto centre = rgb_at(rgb, x, y);
+      std::uint32_t packed = census_cpu(rgb, x, y, census_radius);
+      for (int k = 0; k < 3; ++k) {
+        const double mean = weights > 0 ? sum[k] / weights : centre[k];
+        const double v = std::clamp(128.0 * centre[k] / (mean + epsilon), 0.0, 255.0);
+        packed |= std::uint32_t(std::floor(v + 0.5)) << (8 * k);
       }
       out[std::size_t(y) * w + x] = packed;
     }
@@ -204,6 +246,7 @@ std::vector<float> feature_cost_cpu(const Rig& rig, int reference, int selected,
     const float census = float(std::popcount((f ^ ref) >> 24)) * float(options.census_scale);
     switch (options.cost) {
       case MatchingCost::kNormalised:
+      case MatchingCost::kRatio:
         return color;
       case MatchingCost::kCensus:
         return census;

@@ -42,6 +42,12 @@ std::vector<float> sweep_cost_cpu(const Rig& rig, int reference, int selected,
 std::vector<std::uint32_t> matching_features_cpu(const Rgb8Image& rgb, int radius,
                                                  int census_radius, double epsilon);
 
+// The ratio cost's features (MatchingCost::kRatio, the shader's ratio mode): each channel over
+// the Gaussian mean of its usable neighbours (9 x 9 taps k radius / 4 from it, k in [-4, 4], sigma
+// radius / 2; `usable` none: every pixel), 128 I / (mean + epsilon); the census as above.
+std::vector<std::uint32_t> ratio_features_cpu(const Rgb8Image& rgb, const Gray8Image* usable,
+                                              int radius, int census_radius, double epsilon);
+
 // The N costs of reference pixel (x, y) under options.cost (other than the paper's), on every
 // camera's matching features (width x height each, as matching_features_cpu gives them).
 std::vector<float> feature_cost_cpu(const Rig& rig, int reference, int selected,

@@ -26,6 +26,25 @@ DepthOptions options_for(MatchingCost cost) {
   return options;
 }
 
+// How the colour bytes of two packed feature images differ: by more than `tolerance`, and at
+// all; and how many census bytes differ.
+struct FeatureDifferences {
+  long color_above = 0, color_any = 0, census = 0;
+};
+FeatureDifferences feature_differences(const std::vector<std::uint32_t>& a,
+                                       const std::vector<std::uint32_t>& b, int tolerance) {
+  FeatureDifferences d;
+  for (std::size_t p = 0; p < std::min(a.size(), b.size()); ++p) {
+    for (int k = 0; k < 3; ++k) {
+      const int delta = std::abs(int((a[p] >> (8 * k)) & 255) - int((b[p] >> (8 * k)) & 255));
+      d.color_above += delta > tolerance;
+      d.color_any += delta != 0;
+    }
+    d.census += (a[p] >> 24) != (b[p] >> 24);
+  }
+  return d;
+}
+
 TEST_F(MatchingCostTest, FeaturesEqualCpu) {
   const auto scene = fixtures::render_depth_case(kSize);
   DepthOptions options = options_for(MatchingCost::kNormalisedCensus);
@@ -37,26 +56,46 @@ TEST_F(MatchingCostTest, FeaturesEqualCpu) {
     const auto gpu = estimator.matching_features(c);
     const auto cpu = matching_features_cpu(scene.images[c], 2, 2, options.feature_epsilon);
     ASSERT_EQ(gpu.size(), cpu.size());
-    long color_off = 0, census_off = 0;
-    for (std::size_t p = 0; p < cpu.size(); ++p) {
-      for (int k = 0; k < 3; ++k) {
-        const int a = int((gpu[p] >> (8 * k)) & 255), b = int((cpu[p] >> (8 * k)) & 255);
-        ASSERT_LE(std::abs(a - b), 1) << "camera " << c << " pixel " << p;  // float vs double
-        color_off += a != b;
-      }
-      census_off += (gpu[p] >> 24) != (cpu[p] >> 24);
-    }
-    std::cout << "camera " << c << ": " << color_off << " colour bytes 1 apart, " << census_off
+    const FeatureDifferences d = feature_differences(gpu, cpu, 1);
+    std::cout << "camera " << c << ": " << d.color_any << " colour bytes 1 apart, " << d.census
               << " census bytes differ, of " << cpu.size() << " pixels\n";
-    EXPECT_LT(color_off, long(cpu.size()) / 100);
-    EXPECT_LT(census_off, long(cpu.size()) / 200);  // a neighbour within rounding of c + 1
+    EXPECT_EQ(d.color_above, 0) << "camera " << c;  // float vs double: at most 1 apart
+    EXPECT_LT(d.color_any, long(cpu.size()) / 100);
+    EXPECT_LT(d.census, long(cpu.size()) / 200);  // a neighbour within rounding of c + 1
+  }
+}
+
+TEST_F(MatchingCostTest, RatioFeaturesEqualCpuAndSkipUnusablePixels) {
+  const auto scene = fixtures::render_depth_case(kSize);
+  DepthOptions options = options_for(MatchingCost::kRatio);
+  options.ratio_radius = 64;   // 8 pixels at 128 px: taps 2 apart
+  options.census_radius = 16;  // 2 pixels
+  DepthEstimator estimator(context(), scene.rig.rig(), scene.usable, options);
+  estimator.cost_volume(scene.image_views(), 0, false);
+  for (int c = 0; c < 4; ++c) {
+    ASSERT_TRUE(scene.usable[c].has_value()) << "the fixture's cameras have masks";
+    const auto gpu = estimator.matching_features(c);
+    const auto cpu =
+        ratio_features_cpu(scene.images[c], &*scene.usable[c], 8, 2, options.ratio_epsilon);
+    // Without the mask, the mean near the image circle is darker: the features differ there.
+    const auto unmasked = ratio_features_cpu(scene.images[c], nullptr, 8, 2, options.ratio_epsilon);
+    ASSERT_EQ(gpu.size(), cpu.size());
+    const FeatureDifferences d = feature_differences(gpu, cpu, 1);
+    const long unmasked_off = feature_differences(gpu, unmasked, 1).color_above;
+    std::cout << "camera " << c << ": " << d.color_any << " colour bytes 1 apart; " << unmasked_off
+              << " more than 1 apart from the mean of every pixel, of " << cpu.size()
+              << " pixels\n";
+    EXPECT_EQ(d.color_above, 0) << "camera " << c;
+    EXPECT_LT(d.color_any, long(cpu.size()) / 100);
+    EXPECT_EQ(d.census, 0) << "camera " << c;
+    EXPECT_GT(unmasked_off, long(cpu.size()) / 100);
   }
 }
 
 TEST_F(MatchingCostTest, RobustSweepCostsEqualCpu) {
   const auto scene = fixtures::render_depth_case(kSize);
-  for (const MatchingCost cost :
-       {MatchingCost::kNormalised, MatchingCost::kCensus, MatchingCost::kNormalisedCensus}) {
+  for (const MatchingCost cost : {MatchingCost::kNormalised, MatchingCost::kCensus,
+                                  MatchingCost::kNormalisedCensus, MatchingCost::kRatio}) {
     const DepthOptions options = options_for(cost);
     DepthEstimator estimator(context(), scene.rig.rig(), scene.usable, options);
     const auto images = scene.image_views();
@@ -121,17 +160,19 @@ TEST_F(MatchingCostTest, NormalisedCostsIgnoreAGainAndAColorCast) {
   const double ad = relative_change_under_gain(context(), MatchingCost::kAbsoluteDifference);
   const double nad = relative_change_under_gain(context(), MatchingCost::kNormalised);
   const double census = relative_change_under_gain(context(), MatchingCost::kCensus);
+  const double ratio = relative_change_under_gain(context(), MatchingCost::kRatio);
   std::cout << "relative change of the raw costs under a gain: ad " << ad << ", nad " << nad
-            << ", census " << census << "\n";
+            << ", census " << census << ", ratio " << ratio << "\n";
   EXPECT_GT(ad, 0.2);
   EXPECT_LT(nad, ad / 4);
   EXPECT_LT(census, ad / 4);
+  EXPECT_LT(ratio, ad / 4);
 }
 
 // End to end on a frame through lenses with realistic gains, casts and vignetting, at 256 px:
 // the paper's cost loses much of its accuracy; nad, or the paper's cost on images whose responses
 // photometric_model.h estimated and undid, keep it.
-TEST_F(MatchingCostTest, PhotometricConditionsAreSurvivedByNadAndByTheCorrection) {
+TEST_F(MatchingCostTest, PhotometricConditionsAreSurvivedByNadRatioAndTheCorrection) {
   const int size = 256;
   const auto clean = fixtures::render_depth_case(size);
   const auto changed =
@@ -162,12 +203,18 @@ TEST_F(MatchingCostTest, PhotometricConditionsAreSurvivedByNadAndByTheCorrection
   const double ad_clean = mae(clean, MatchingCost::kAbsoluteDifference, clean.image_views());
   const double ad = mae(changed, MatchingCost::kAbsoluteDifference, changed.image_views());
   const double nad = mae(changed, MatchingCost::kNormalised, changed.image_views());
+  const double ratio_clean = mae(clean, MatchingCost::kRatio, clean.image_views());
+  const double ratio = mae(changed, MatchingCost::kRatio, changed.image_views());
   const double ad_corrected = mae(changed, MatchingCost::kAbsoluteDifference, views(corrected));
   std::cout << "fisheye MAE at 256 px: ad " << ad_clean << " clean, " << ad
-            << " through the lenses; nad " << nad << "; ad on corrected images " << ad_corrected
-            << "\n";
+            << " through the lenses; nad " << nad << "; ratio " << ratio_clean << " clean, "
+            << ratio << "; ad on corrected images " << ad_corrected << "\n";
   EXPECT_GT(ad, 2 * ad_clean);
   EXPECT_LT(nad, 1.5 * ad_clean);
+  // Measured: ratio 0.061 clean, 0.082 through the lenses. At 256 px its mean reaches 3 pixels
+  // only; at 1024 px it does better (docs/accuracy.md).
+  EXPECT_LT(ratio, 1.5 * ratio_clean);
+  EXPECT_LT(ratio, ad / 2);
   EXPECT_LT(ad_corrected, 1.25 * ad_clean);
 }
 
@@ -194,6 +241,15 @@ TEST(MatchingCostOptions, NamesRoundTripAndBadValuesAreNamed) {
             std::string::npos);
   options = {};
   options.second_camera_power = 0;
+  EXPECT_THROW(options.check(4), std::invalid_argument);
+  options = {};
+  options.ratio_radius = 3;
+  EXPECT_NE(omnisweep::testing::error_message<std::invalid_argument>([&] {
+              options.check(4);
+            }).find("ratio-radius: 3"),
+            std::string::npos);
+  options = {};
+  options.ratio_epsilon = -1;
   EXPECT_THROW(options.check(4), std::invalid_argument);
 }
 

@@ -52,6 +52,8 @@ constexpr Variant kVariants[] = {
     {"nad, 2 cameras", depth::MatchingCost::kNormalised, false, 2},
     {"census", depth::MatchingCost::kCensus, false},
     {"nad-census", depth::MatchingCost::kNormalisedCensus, false},
+    {"ratio", depth::MatchingCost::kRatio, false},
+    {"ratio, 2 cameras", depth::MatchingCost::kRatio, false, 2},
 };
 
 AccuracySet synthetic_set(const AccuracySectionOptions& options, bool lenses, int width,

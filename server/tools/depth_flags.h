@@ -41,6 +41,13 @@ inline void add_matching_cost_flags(CLI::App& app, depth::DepthOptions& options)
   app.add_option("--feature-epsilon", options.feature_epsilon,
                  "Added to the window's deviation by nad, 8-bit levels")
       ->check(CLI::PositiveNumber);
+  app.add_option("--ratio-radius", options.ratio_radius,
+                 "Reach of the neighbourhood mean of ratio, pixels at 1024 px (Gaussian sigma "
+                 "half of it)")
+      ->check(CLI::Range(4, 64));
+  app.add_option("--ratio-epsilon", options.ratio_epsilon,
+                 "Added to the neighbourhood mean by ratio, 8-bit levels")
+      ->check(CLI::PositiveNumber);
   app.add_option("--census-radius", options.census_radius,
                  "Distance of the census neighbours, pixels at 1024 px")
       ->check(CLI::Range(1, 16));
