@@ -64,7 +64,7 @@ struct DepthOptions {
   double feature_epsilon = 4.0;  // added to the window's deviation, 8-bit levels
   int census_radius = 2;         // distance of the census' eight neighbours, pixels
   double census_scale = 24.0;    // cost of one differing census bit
-  int ratio_radius = 12;         // ratio: its mean's taps reach this far (Gaussian sigma r / 2)
+  int ratio_radius = 20;         // ratio: its mean's taps reach this far (Gaussian sigma r / 2)
   double ratio_epsilon = 1.0;    // ratio: added to the mean, 8-bit levels
   // The confidence's coarse agreement (docs/accuracy.md): each pixel's confidence times
   // exp(-(delta / t)^2), delta (m^-1) between its inverse distance and the winner of the filtered
