@@ -10,10 +10,8 @@
 // - RGB, ratio (push.ratio 1): each channel over its neighbourhood's mean,
 //   128 I / (mean + epsilon), clamped to [0, 255]. The mean is Gaussian (sigma radius / 2) over
 //   9 x 9 taps k radius / 4 (integer division) from the pixel, of usable pixels only (the
-//   image's alpha, which DepthEstimator sets from the usable mask for this cost): the black
-//   beyond the image circle
-//   and the rig's own parts would otherwise pull the mean down near them, differently in every
-//   camera. A gain, a cast or a vignetting smooth over the window cancels; the contrast, unlike
+//   cameras' usable masks): the black beyond the image circle and the rig's own parts would
+//   otherwise pull the mean down near them, differently in every camera. A gain, a cast or a vignetting smooth over the window cancels; the contrast, unlike
 //   nad's, is not raised to unit deviation, so the noise of plain surfaces stays small.
 // - A: an 8-bit census of the luminance: bit k set where the neighbour at census_radius in
 //   direction k (E, NE, N, NW, W, SW, S, SE) is brighter than the pixel by more than 1 level.
@@ -24,6 +22,8 @@ layout(local_size_x_id = 100, local_size_y_id = 101, local_size_z_id = 102) in;
 
 layout(set = 0, binding = 0) uniform usamplerBuffer images;  // RGBA8 texels, camera-major
 layout(std430, set = 0, binding = 1) writeonly buffer Features { uint features[]; };
+// Usable masks, bytes, camera-major (read by the ratio mode only).
+layout(std430, set = 0, binding = 2) readonly buffer Masks { uint masks[]; };
 layout(push_constant) uniform Push {
   uint width;
   uint height;
@@ -33,13 +33,16 @@ layout(push_constant) uniform Push {
   uint ratio;
 } push;
 
-uint texel_at(uint base, int x, int y) {
+// The index of pixel (x, y), clamped to the image, of the camera starting at `base`.
+uint index_at(uint base, int x, int y) {
   x = clamp(x, 0, int(push.width) - 1);
   y = clamp(y, 0, int(push.height) - 1);
-  return texelFetch(images, int(base + uint(y) * push.width + uint(x))).x;
+  return base + uint(y) * push.width + uint(x);
 }
 
-vec3 rgb_at(uint base, int x, int y) { return unpack_rgb(texel_at(base, x, y)); }
+vec3 rgb_at(uint base, int x, int y) {
+  return unpack_rgb(texelFetch(images, int(index_at(base, x, y))).x);
+}
 
 float luma(vec3 rgb) { return dot(rgb, vec3(0.299, 0.587, 0.114)); }
 
@@ -56,9 +59,9 @@ void main() {
     for (int ky = -4; ky <= 4; ++ky) {
       for (int kx = -4; kx <= 4; ++kx) {
         // Integer division truncates towards 0 in GLSL and C++ alike (ratio_features_cpu).
-        const uint t = texel_at(base, x + kx * push.radius / 4, y + ky * push.radius / 4);
-        const float w = (t >> 24) != 0u ? exp(-float(kx * kx + ky * ky) / 8.0) : 0.0;
-        sum += w * unpack_rgb(t);
+        const uint i = index_at(base, x + kx * push.radius / 4, y + ky * push.radius / 4);
+        const float w = BYTE_AT(masks, i) != 0u ? exp(-float(kx * kx + ky * ky) / 8.0) : 0.0;
+        sum += w * unpack_rgb(texelFetch(images, int(i)).x);
         weights += w;
       }
     }

@@ -140,7 +140,7 @@ DepthEstimator::DepthEstimator(gpu::Context& context, const Rig& rig,
           {.bindings = {BindingSlot::texels(), 1}, .push_constant_bytes = sizeof(GuidePush)}),
       features_kernel_(
           context, gpu::Shader::kMatchingFeatures,
-          {.bindings = {BindingSlot::texels(), 1}, .push_constant_bytes = sizeof(FeaturesPush)}),
+          {.bindings = {BindingSlot::texels(), 1, 1}, .push_constant_bytes = sizeof(FeaturesPush)}),
       sweep_kernel_(context, volume_shader(gpu::Shader::kSphereSweepCost, layout_),
                     sweep_layout(volume_kernel_layout({reproject::camera_binding(),
                                                        BindingSlot::texels(), 1, kMaxChunks},
@@ -160,6 +160,7 @@ DepthEstimator::DepthEstimator(gpu::Context& context, const Rig& rig,
       features_(context, options.cost == MatchingCost::kAbsoluteDifference
                              ? 16
                              : std::uint64_t(width_) * height_ * 4 * rig.num_cameras()),
+      masks_(context, 16),  // the masks below, where the ratio cost reads them
       guide_(context, std::uint64_t(width_) * height_ * 4 * slots()),
       dummy_(context, 16),
       cameras_(context, vk::DeviceSize(slots()) * rig.num_cameras() * sizeof(reproject::GpuCamera)),
@@ -183,10 +184,8 @@ DepthEstimator::DepthEstimator(gpu::Context& context, const Rig& rig,
           "mask of camera " + std::to_string(c) + " is " + std::to_string(usable[c]->width()) +
           "x" + std::to_string(usable[c]->height()) + ", expected the matching resolution");
     }
-    for (std::size_t p = 0; p < pixels; ++p) {
+    for (std::size_t p = 0; p < pixels; ++p)
       mask_bytes[c * pixels + p] = usable[c]->data()[p] ? 255 : 0;
-      if (!usable[c]->data()[p] && ratio_cost()) unusable_.push_back(c * pixels + p);
-    }
   }
   mask_bytes.resize((mask_bytes.size() + 3) / 4 * 4, 0);
   gpu::Buffer masks(context, mask_bytes.size());
@@ -211,7 +210,10 @@ DepthEstimator::DepthEstimator(gpu::Context& context, const Rig& rig,
         selection_kernel_.groups_for(width_, height_));
   }
   sequence_.submit_and_wait();
-  gpu_bytes_ = context.allocated_bytes() - masks.size() - allocated_before_;
+  // The ratio cost's features read the masks every frame; the other costs let them go.
+  const vk::DeviceSize transient = ratio_cost() ? 0 : masks.size();
+  if (ratio_cost()) masks_ = std::move(masks);
+  gpu_bytes_ = context.allocated_bytes() - transient - allocated_before_;
 }
 
 std::uint64_t DepthEstimator::gpu_bytes() const { return gpu_bytes_; }
@@ -233,8 +235,6 @@ void DepthEstimator::upload_images(std::span<const Rgb8View> images) {
     }
     reproject::pack_rgba8(im, std::span(packed).subspan(c * pixels, pixels));
   }
-  // The ratio's mean takes usable pixels only: alpha 0 where a camera's mask says unusable.
-  for (std::size_t p = 0; p < unusable_.size(); ++p) packed[unusable_[p]] &= 0x00ffffffu;
   images_.upload(std::span<const std::uint32_t>(packed));
 }
 
@@ -249,16 +249,15 @@ void DepthEstimator::record_guides(gpu::Sequence& seq) {
 }
 
 void DepthEstimator::record_features(gpu::Sequence& seq) {
-  seq.dispatch(features_kernel_, {image_texels(images_), features_},
-               ratio_cost() ? FeaturesPush{std::uint32_t(width_), std::uint32_t(height_),
-                                           options_.scaled_radius(options_.ratio_radius),
-                                           options_.scaled_radius(options_.census_radius),
-                                           float(options_.ratio_epsilon), 1}
-                            : FeaturesPush{std::uint32_t(width_), std::uint32_t(height_),
-                                           options_.scaled_radius(options_.feature_radius),
-                                           options_.scaled_radius(options_.census_radius),
-                                           float(options_.feature_epsilon), 0},
-               features_kernel_.groups_for(width_, height_, rig_.num_cameras()));
+  const bool ratio = ratio_cost();
+  seq.dispatch(
+      features_kernel_, {image_texels(images_), features_, masks_},
+      FeaturesPush{std::uint32_t(width_), std::uint32_t(height_),
+                   options_.scaled_radius(ratio ? options_.ratio_radius : options_.feature_radius),
+                   options_.scaled_radius(options_.census_radius),
+                   float(ratio ? options_.ratio_epsilon : options_.feature_epsilon),
+                   ratio ? 1u : 0u},
+      features_kernel_.groups_for(width_, height_, rig_.num_cameras()));
 }
 
 void DepthEstimator::record_group(gpu::Sequence& seq, int first, bool filter, bool finish) {

@@ -114,9 +114,8 @@ class DepthEstimator {
   IsbFilter post_filter_;         // one channel, every reference, for the distance maps
   gpu::Buffer images_;            // RGBA8 per camera
   gpu::Buffer features_;          // RGBA8 per camera: matching features (robust costs only)
-  // Texels (camera-major) that the masks say are unusable, for the ratio cost's mean.
-  std::vector<std::uint32_t> unusable_;
-  gpu::Buffer guide_;  // per reference slot
+  gpu::Buffer masks_;             // usable masks, a byte per pixel (the ratio cost only)
+  gpu::Buffer guide_;             // per reference slot
   gpu::Buffer dummy_;
   gpu::Buffer cameras_;           // per reference slot, every camera (reproject::pack_cameras)
   gpu::Buffer selections_;        // per reference slot
