@@ -8,11 +8,15 @@
 // (centre / edge / corner), each off-centre weight times exp(-g^2 / (2 sigma_I^2)) + 0.01. The
 // coarse guide (rounded to 8 bits) and every channel are the normalised weighted sums. z is the
 // slot (volume.glsl); the fine guide of slot z is plane fine_guide_first + z of its buffer.
+// With kConfidentSigma the guide's fourth byte (isb_weights.glsl) is averaged with the same
+// weights; otherwise the coarse guide's fourth byte is 0.
 layout(local_size_x_id = 100, local_size_y_id = 101, local_size_z_id = 102) in;
 
 #include "pixels.glsl"
 #include "isb_weights.glsl"
 #include "volume.glsl"
+
+layout(constant_id = 3) const bool kConfidentSigma = false;
 
 layout(set = 0, binding = 0) uniform usamplerBuffer fine_guide;
 layout(std430, set = 0, binding = 1) writeonly buffer CoarseGuide { uint coarse_guide[]; };
@@ -58,13 +62,17 @@ void main() {
               w6 = DOWN_WEIGHT(g6, 0.25), w7 = DOWN_WEIGHT(g7, 0.5), w8 = DOWN_WEIGHT(g8, 0.25);
   float total = 0.0;
   vec3 guide_sum = vec3(0.0);
-#define DOWN_ADD(w, g)   \
-  total += w;            \
-  guide_sum += w * unpack_rgb(g);
+  float confidence_sum = 0.0;
+#define DOWN_ADD(w, g)                                        \
+  total += w;                                                 \
+  guide_sum += w * unpack_rgb(g);                             \
+  if (kConfidentSigma) confidence_sum += w * float(g >> 24u);
   DOWN_ADD(w0, g0) DOWN_ADD(w1, g1) DOWN_ADD(w2, g2) DOWN_ADD(w3, g3) DOWN_ADD(w4, g4)
   DOWN_ADD(w5, g5) DOWN_ADD(w6, g6) DOWN_ADD(w7, g7) DOWN_ADD(w8, g8)
   const uint out_index = p.y * push.coarse_width + p.x;
-  coarse_guide[slot * coarse_plane + out_index] = round_guide(guide_sum / total);
+  const uint confidence =
+      kConfidentSigma ? uint(clamp(floor(confidence_sum / total + 0.5), 0.0, 255.0)) << 24u : 0u;
+  coarse_guide[slot * coarse_plane + out_index] = round_guide(guide_sum / total) | confidence;
   const float inv_total = 1.0 / total;
 // Every channel of chunk c (a literal: texel arrays take constant indices, volume.glsl).
 #define DOWN_CHUNK(c)                                                                          \

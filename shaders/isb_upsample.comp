@@ -19,6 +19,8 @@
 // winner-takes-all kernel a full read of the volume and this pass its write; slot z's distances
 // are plane distance_first + z of `distance_map`, and their confidences (wta.glsl) the same plane
 // of `confidence_map`.
+// With kConfidentSigma each child's w_down comes from its guide's fourth byte
+// (confident_w_down, isb_weights.glsl), which its smoothed guide keeps.
 layout(local_size_x_id = 100, local_size_y_id = 101, local_size_z_id = 102) in;
 
 #include "pixels.glsl"
@@ -27,6 +29,7 @@ layout(local_size_x_id = 100, local_size_y_id = 101, local_size_z_id = 102) in;
 #include "wta.glsl"
 
 layout(constant_id = 2) const bool kWinnerTakesAll = false;
+layout(constant_id = 3) const bool kConfidentSigma = false;
 
 layout(std430, set = 0, binding = 0) writeonly buffer FineGuide { uint fine_guide[]; };
 layout(set = 0, binding = 1) uniform usamplerBuffer coarse_guide;
@@ -50,6 +53,10 @@ layout(push_constant) uniform Push {
   float inv_d_max;
   float d_max;
   uint distance_first;
+  // kConfidentSigma only: (2^l - 0.5)^2 and the two spatial sigmas.
+  float scale_sq;
+  float sigma_s;
+  float sigma_confident;
 } push;
 
 // The children of a coarse pixel (2x, 2y), (2x + 1, 2y), (2x, 2y + 1), (2x + 1, 2y + 1) are
@@ -62,7 +69,7 @@ layout(push_constant) uniform Push {
 // in memory, per lane, which made this pass several times slower.
 
 // A child's weight for coarse neighbour guide g with spatial weight s.
-#define UP_WEIGHT(own, g, s) (push.w_down * (s) * range_weight(own, g, push.inv_two_sigma_sq))
+#define UP_WEIGHT(w_down, own, g, s) ((w_down) * (s) * range_weight(own, g, push.inv_two_sigma_sq))
 // Adds a neighbour's weight to a child's total and guide sum.
 #define UP_ADD(child, w, g)        \
   total##child += w;               \
@@ -101,25 +108,29 @@ void main() {
   const uint own2 = texelFetch(fine_guide_texels, int(guide_base + fine2)).x;
   const uint own3 = texelFetch(fine_guide_texels, int(guide_base + fine3)).x;
 
-  const float w_up = 1.0 - push.w_down;
-  float total0 = w_up, total1 = w_up, total2 = w_up, total3 = w_up;
-  vec3 guide_sum0 = w_up * unpack_rgb(own0), guide_sum1 = w_up * unpack_rgb(own1);
-  vec3 guide_sum2 = w_up * unpack_rgb(own2), guide_sum3 = w_up * unpack_rgb(own3);
-  const float wa0 = UP_WEIGHT(own0, g0, 1.0), wa1 = UP_WEIGHT(own0, g1, 1.0), wa2 = UP_WEIGHT(own0, g2, 1.0),
-              wa3 = UP_WEIGHT(own0, g3, 1.0), wa4 = UP_WEIGHT(own0, g4, 8.0), wa5 = UP_WEIGHT(own0, g5, 1.0),
-              wa6 = UP_WEIGHT(own0, g6, 1.0), wa7 = UP_WEIGHT(own0, g7, 1.0), wa8 = UP_WEIGHT(own0, g8, 1.0);
+#define CHILD_W_DOWN(own) \
+  (kConfidentSigma ? confident_w_down(own, push.scale_sq, push.sigma_s, push.sigma_confident) : push.w_down)
+  const float down0 = CHILD_W_DOWN(own0), down1 = CHILD_W_DOWN(own1), down2 = CHILD_W_DOWN(own2),
+              down3 = CHILD_W_DOWN(own3);
+  const float up0 = 1.0 - down0, up1 = 1.0 - down1, up2 = 1.0 - down2, up3 = 1.0 - down3;
+  float total0 = up0, total1 = up1, total2 = up2, total3 = up3;
+  vec3 guide_sum0 = up0 * unpack_rgb(own0), guide_sum1 = up1 * unpack_rgb(own1);
+  vec3 guide_sum2 = up2 * unpack_rgb(own2), guide_sum3 = up3 * unpack_rgb(own3);
+  const float wa0 = UP_WEIGHT(down0, own0, g0, 1.0), wa1 = UP_WEIGHT(down0, own0, g1, 1.0), wa2 = UP_WEIGHT(down0, own0, g2, 1.0),
+              wa3 = UP_WEIGHT(down0, own0, g3, 1.0), wa4 = UP_WEIGHT(down0, own0, g4, 8.0), wa5 = UP_WEIGHT(down0, own0, g5, 1.0),
+              wa6 = UP_WEIGHT(down0, own0, g6, 1.0), wa7 = UP_WEIGHT(down0, own0, g7, 1.0), wa8 = UP_WEIGHT(down0, own0, g8, 1.0);
   UP_ADD(0, wa0, g0) UP_ADD(0, wa1, g1) UP_ADD(0, wa2, g2) UP_ADD(0, wa3, g3) UP_ADD(0, wa4, g4)
   UP_ADD(0, wa5, g5) UP_ADD(0, wa6, g6) UP_ADD(0, wa7, g7) UP_ADD(0, wa8, g8)
-  const float wb0 = UP_WEIGHT(own1, g4, 8.0), wb1 = UP_WEIGHT(own1, g5, 8.0), wb2 = UP_WEIGHT(own1, g1, 1.0),
-              wb3 = UP_WEIGHT(own1, g2, 1.0), wb4 = UP_WEIGHT(own1, g7, 1.0), wb5 = UP_WEIGHT(own1, g8, 1.0);
+  const float wb0 = UP_WEIGHT(down1, own1, g4, 8.0), wb1 = UP_WEIGHT(down1, own1, g5, 8.0), wb2 = UP_WEIGHT(down1, own1, g1, 1.0),
+              wb3 = UP_WEIGHT(down1, own1, g2, 1.0), wb4 = UP_WEIGHT(down1, own1, g7, 1.0), wb5 = UP_WEIGHT(down1, own1, g8, 1.0);
   UP_ADD(1, wb0, g4) UP_ADD(1, wb1, g5) UP_ADD(1, wb2, g1) UP_ADD(1, wb3, g2) UP_ADD(1, wb4, g7)
   UP_ADD(1, wb5, g8)
-  const float wc0 = UP_WEIGHT(own2, g4, 8.0), wc1 = UP_WEIGHT(own2, g7, 8.0), wc2 = UP_WEIGHT(own2, g3, 1.0),
-              wc3 = UP_WEIGHT(own2, g6, 1.0), wc4 = UP_WEIGHT(own2, g5, 1.0), wc5 = UP_WEIGHT(own2, g8, 1.0);
+  const float wc0 = UP_WEIGHT(down2, own2, g4, 8.0), wc1 = UP_WEIGHT(down2, own2, g7, 8.0), wc2 = UP_WEIGHT(down2, own2, g3, 1.0),
+              wc3 = UP_WEIGHT(down2, own2, g6, 1.0), wc4 = UP_WEIGHT(down2, own2, g5, 1.0), wc5 = UP_WEIGHT(down2, own2, g8, 1.0);
   UP_ADD(2, wc0, g4) UP_ADD(2, wc1, g7) UP_ADD(2, wc2, g3) UP_ADD(2, wc3, g6) UP_ADD(2, wc4, g5)
   UP_ADD(2, wc5, g8)
-  const float wd0 = UP_WEIGHT(own3, g4, 1.0), wd1 = UP_WEIGHT(own3, g5, 1.0), wd2 = UP_WEIGHT(own3, g7, 1.0),
-              wd3 = UP_WEIGHT(own3, g8, 1.0);
+  const float wd0 = UP_WEIGHT(down3, own3, g4, 1.0), wd1 = UP_WEIGHT(down3, own3, g5, 1.0), wd2 = UP_WEIGHT(down3, own3, g7, 1.0),
+              wd3 = UP_WEIGHT(down3, own3, g8, 1.0);
   UP_ADD(3, wd0, g4) UP_ADD(3, wd1, g5) UP_ADD(3, wd2, g7) UP_ADD(3, wd3, g8)
   const float inv0 = 1.0 / total0, inv1 = 1.0 / total1, inv2 = 1.0 / total2, inv3 = 1.0 / total3;
 
@@ -146,14 +157,14 @@ void main() {
                      n4 = VOLUME_FETCH(coarse[c], cb + i4), n5 = VOLUME_FETCH(coarse[c], cb + i5), \
                      n6 = VOLUME_FETCH(coarse[c], cb + i6), n7 = VOLUME_FETCH(coarse[c], cb + i7), \
                      n8 = VOLUME_FETCH(coarse[c], cb + i8);                                   \
-      VOLUME_V s0 = w_up * VOLUME_FETCH(fine_texels[c], fb + int(fine0));                    \
+      VOLUME_V s0 = up0 * VOLUME_FETCH(fine_texels[c], fb + int(fine0));                    \
       s0 += wa0 * n0; s0 += wa1 * n1; s0 += wa2 * n2; s0 += wa3 * n3; s0 += wa4 * n4;             \
       s0 += wa5 * n5; s0 += wa6 * n6; s0 += wa7 * n7; s0 += wa8 * n8;                            \
-      VOLUME_V s1 = w_up * VOLUME_FETCH(fine_texels[c], fb + int(fine1));                    \
+      VOLUME_V s1 = up1 * VOLUME_FETCH(fine_texels[c], fb + int(fine1));                    \
       s1 += wb0 * n4; s1 += wb1 * n5; s1 += wb2 * n1; s1 += wb3 * n2; s1 += wb4 * n7; s1 += wb5 * n8; \
-      VOLUME_V s2 = w_up * VOLUME_FETCH(fine_texels[c], fb + int(fine2));                    \
+      VOLUME_V s2 = up2 * VOLUME_FETCH(fine_texels[c], fb + int(fine2));                    \
       s2 += wc0 * n4; s2 += wc1 * n7; s2 += wc2 * n3; s2 += wc3 * n6; s2 += wc4 * n5; s2 += wc5 * n8; \
-      VOLUME_V s3 = w_up * VOLUME_FETCH(fine_texels[c], fb + int(fine3));                    \
+      VOLUME_V s3 = up3 * VOLUME_FETCH(fine_texels[c], fb + int(fine3));                    \
       s3 += wd0 * n4; s3 += wd1 * n5; s3 += wd2 * n7; s3 += wd3 * n8;                            \
       UP_STORE(c, 0, s0 * inv0) UP_STORE(c, 1, s1 * inv1) UP_STORE(c, 2, s2 * inv2)                   \
       UP_STORE(c, 3, s3 * inv3)                                                               \
@@ -171,7 +182,9 @@ void main() {
                                        push.inv_d_max, push.d_max);                       \
       confidence_map[at] = peaks_confidence(peaks##child, wta##child, push.num_candidates);           \
     } else {                                                                              \
-      fine_guide[guide_base + fine##child] = round_guide(guide_sum##child * inv##child);  \
+      fine_guide[guide_base + fine##child] =                                              \
+          round_guide(guide_sum##child * inv##child) |                                    \
+          (kConfidentSigma ? own##child & 0xff000000u : 0u);                              \
     }                                                                                     \
   }
   UP_FINISH(0) UP_FINISH(1) UP_FINISH(2) UP_FINISH(3)

@@ -18,10 +18,16 @@ layout(constant_id = 30) const uint kCost = 0u;
 // DepthOptions::match_cameras: 2 also matches against the second camera (selection plane
 // slots + reference), where there is one, and stores the mean of the two costs.
 layout(constant_id = 31) const uint kCameras = 1u;
+// DepthOptions::confident_sigma_s > 0: also the confidence of each pixel's raw cost curve
+// (wta.glsl), as the fourth byte of its filter guide (binding 4, plane `first + slot`), which
+// sets the ISB filter's spatial sigma there (isb_weights.glsl).
+layout(constant_id = 32) const bool kConfidenceToGuide = false;
 
 #include "camera.glsl"
 #include "pixels.glsl"
 #include "volume.glsl"
+#include "isb_weights.glsl"
+#include "wta.glsl"
 
 // Per reference (first + slot): num_cameras records, the reference's frame to each camera's.
 CAMERA_RECORDS(0)
@@ -29,6 +35,7 @@ CAMERA_RECORDS(0)
 layout(set = 0, binding = 1) uniform usamplerBuffer images;
 layout(std430, set = 0, binding = 2) readonly buffer Selection { int selection[]; };  // per reference
 layout(std430, set = 0, binding = 3) writeonly buffer Volume { VOLUME_T v[]; } volume[kMaxChunks];
+layout(std430, set = 0, binding = 4) buffer Guide { uint guide[]; };
 layout(push_constant) uniform Push {
   uint width;
   uint height;
@@ -128,6 +135,8 @@ void main() {
   // whole vector of pixels has no match.
   const uint matched = matching ? (push.num_candidates + kPack - 1u) / kPack : 0u;
   uint t = 0u;
+  Wta wta;
+  Peaks peaks;
   for (; t < matched; ++t) {
 #if VOLUME_PACK == 4
     VOLUME_V cost = vec4(candidate_cost(4u * t, c, rotated, translation, selected, reference_texel, step),
@@ -146,6 +155,12 @@ void main() {
       cost = 0.5 * (cost + candidate_cost(t, c2, rotated2, translation2, second, reference_texel, step));
 #endif
     volume[t / kTexels].v[volume_index(slot, t % kTexels, plane, pixel)] = VOLUME_T(cost);
+    if (kConfidenceToGuide) winner_texel(wta, peaks, t * kPack, push.num_candidates, cost);
+  }
+  if (kConfidenceToGuide) {
+    const float confidence = matched > 0u ? peaks_confidence(peaks, wta, push.num_candidates) : 0.0;
+    const uint at = reference * plane + pixel;
+    guide[at] = (guide[at] & 0x00ffffffu) | (confidence_byte(confidence) << 24u);
   }
   for (; t < kChunks * kTexels; ++t)
     volume[t / kTexels].v[volume_index(slot, t % kTexels, plane, pixel)] = VOLUME_T(0.0);

@@ -65,13 +65,15 @@ gpu::KernelLayout with_rig_model(gpu::KernelLayout layout, const Rig& rig) {
   return layout;
 }
 
-// The sweep's layout: the camera model's constants, the matching cost (constant 30) and the
-// cameras matched (31).
+// The sweep's layout: the camera model's constants, the matching cost (constant 30), the
+// cameras matched (31) and whether it writes the raw curves' confidence into the guides (32).
 gpu::KernelLayout sweep_layout(gpu::KernelLayout layout, const Rig& rig,
                                const DepthOptions& options) {
   layout = with_rig_model(std::move(layout), rig);
   layout.constants.push_back(gpu::SpecConstant::of(30, std::uint32_t(options.cost)));
   layout.constants.push_back(gpu::SpecConstant::of(31, std::uint32_t(options.match_cameras)));
+  layout.constants.push_back(
+      gpu::SpecConstant::of(32, std::uint32_t(options.confident_sigma_s > 0)));
   return layout;
 }
 
@@ -143,7 +145,7 @@ DepthEstimator::DepthEstimator(gpu::Context& context, const Rig& rig,
           {.bindings = {BindingSlot::texels(), 1, 1}, .push_constant_bytes = sizeof(FeaturesPush)}),
       sweep_kernel_(context, volume_shader(gpu::Shader::kSphereSweepCost, layout_),
                     sweep_layout(volume_kernel_layout({reproject::camera_binding(),
-                                                       BindingSlot::texels(), 1, kMaxChunks},
+                                                       BindingSlot::texels(), 1, kMaxChunks, 1},
                                                       sizeof(SweepPush), layout_),
                                  rig, options)),
       wta_kernel_(
@@ -154,8 +156,9 @@ DepthEstimator::DepthEstimator(gpu::Context& context, const Rig& rig,
                         volume_kernel_layout({BindingSlot::texels(kMaxChunks), 1, 1, 1},
                                              sizeof(AgreementPush), layout_)),
       volume_(context, width_, height_, layout_),
-      filter_(context, width_, height_, layout_),
-      post_filter_(context, width_, height_, VolumeLayout{1, 1, false, int(slots())}),
+      filter_(context, width_, height_, layout_, options.confident_sigma_s > 0),
+      post_filter_(context, width_, height_, VolumeLayout{1, 1, false, int(slots())},
+                   options.confident_sigma_s > 0),
       images_(context, std::uint64_t(width_) * height_ * 4 * rig.num_cameras()),
       features_(context, options.cost == MatchingCost::kAbsoluteDifference
                              ? 16
@@ -282,12 +285,13 @@ void DepthEstimator::record_group(gpu::Sequence& seq, int first, bool filter, bo
   set_references(sweep, options_.references);
   seq.dispatch(sweep_kernel_,
                {cameras_, image_texels(robust_cost() ? features_ : images_), selections_,
-                volume_.binding(dummy_)},
+                volume_.binding(dummy_), confident_sigma() ? guide_ : dummy_},
                sweep, sweep_kernel_.groups_for(width_, height_, group));
   seq.barrier();
   if (filter) {
     seq.begin_stage("filter");
-    const IsbParams params{options_.sigma_i, options_.scaled_sigma_s()};
+    const IsbParams params{options_.sigma_i, options_.scaled_sigma_s(),
+                           options_.scaled_confident_sigma_s()};
     if (fused_winner) {
       filter_.record_winner_take_all(seq, guide_, volume_, params, distances_.chunks()[0],
                                      confidences_,
@@ -348,7 +352,8 @@ void DepthEstimator::record_post_filter(gpu::Sequence& seq) {
     seq.barrier();
   }
   post_filter_.record(seq, guide_, distances_,
-                      {options_.sigma_i / 2, options_.scaled_sigma_s() / 2});
+                      {options_.sigma_i / 2, options_.scaled_sigma_s() / 2,
+                       options_.scaled_confident_sigma_s() / 2});
 }
 
 void DepthEstimator::record(gpu::Sequence& seq) {
@@ -358,6 +363,7 @@ void DepthEstimator::record(gpu::Sequence& seq) {
     seq.barrier();
   }
   record_guides(seq);  // independent of the sweep: the sweep's barrier covers both
+  if (confident_sigma()) seq.barrier();  // unless the sweep writes into them
   for (int first = 0; first < int(slots()); first += group_size())
     record_group(seq, first, true, true);
   if (options_.post_filter) record_post_filter(seq);
@@ -423,7 +429,8 @@ std::vector<float> DepthEstimator::cost_volume(std::span<const Rgb8View> images,
     record_features(sequence_);
     sequence_.barrier();
   }
-  if (filtered) record_guides(sequence_);
+  if (filtered || confident_sigma()) record_guides(sequence_);
+  if (confident_sigma()) sequence_.barrier();  // the sweep writes into the guides
   record_group(sequence_, first, filtered, false);
   sequence_.submit_and_wait();
   return volume_.download(options_.num_candidates, slot - first);

@@ -94,6 +94,7 @@ class DepthEstimator {
   // Whether a full frame's filter ends in winner-takes-all (a last upsample to fuse it into),
   // which leaves the full-resolution guides as the images gave them.
   bool winner_in_filter() const { return filter_.levels() >= 2; }
+  bool confident_sigma() const { return options_.confident_sigma_s > 0; }
   std::uint32_t slots() const { return std::uint32_t(options_.references.size()); }
 
   gpu::Context* context_;

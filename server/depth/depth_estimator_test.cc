@@ -144,6 +144,51 @@ TEST_F(DepthEstimatorTest, WinnerTakesAllEqualsCpu) {
   EXPECT_GT(mean_confidence, 0.05);  // not all flat
 }
 
+// The confident sigma (DepthOptions::confident_sigma_s): the sweep writes each pixel's raw curve
+// confidence into its guide's fourth byte, and the filter lowers its spatial sigma there. The
+// CPU does the same from the GPU's raw volume (cost_confidence_cpu, isb_filter_cpu,
+// winner_take_all_cpu) and must find the same distances, which differ from the paper's.
+TEST_F(DepthEstimatorTest, ConfidentSigmaEqualsCpu) {
+  const int n = 96;
+  const auto scene = fixtures::render_depth_case(n);
+  DepthOptions options;
+  options.matching_width = options.matching_height = n;
+  options.post_filter = false;
+  options.half_costs = false;
+  options.coarse_agreement = 0;
+  options.confident_sigma_s = 12;
+  DepthEstimator estimator(context(), scene.rig.rig(), scene.usable, options);
+  const auto raw = estimator.cost_volume(scene.image_views(), 0, false);
+  const DepthResult result = estimator.estimate(scene.image_views());
+  auto guide = ycbcr_guide_cpu(scene.images[std::size_t(options.references[0])]);
+  const int candidates = options.num_candidates;
+  double mean_confidence = 0;
+  for (std::size_t p = 0; p < guide.size(); ++p) {
+    const float c = cost_confidence_cpu(&raw[p * candidates], candidates);
+    guide[p] |= std::uint32_t(std::clamp(std::floor(c * 255.0f + 0.5f), 0.0f, 255.0f)) << 24;
+    mean_confidence += c / double(guide.size());
+  }
+  const auto filtered =
+      isb_filter_cpu(guide, raw, n, n, candidates, options.sigma_i, options.scaled_sigma_s(),
+                     options.scaled_confident_sigma_s());
+  const auto paper =
+      isb_filter_cpu(guide, raw, n, n, candidates, options.sigma_i, options.scaled_sigma_s());
+  int close = 0, differ_from_paper = 0;
+  for (int p = 0; p < n * n; ++p) {
+    const double cpu = 1.0 / winner_take_all_cpu(&filtered[std::size_t(p) * candidates], options);
+    const double gpu = 1.0 / result.distance[0].data()[p];
+    close += std::abs(gpu - cpu) < 1e-3;
+    differ_from_paper +=
+        std::abs(cpu - 1.0 / winner_take_all_cpu(&paper[std::size_t(p) * candidates], options)) >
+        1e-3;
+  }
+  std::cout << "confident sigma vs CPU: " << 100.0 * close / (n * n)
+            << " % of pixels within 1e-3 m^-1; " << 100.0 * differ_from_paper / (n * n)
+            << " % differ from the paper's filter; mean raw confidence " << mean_confidence << "\n";
+  EXPECT_GE(close, n * n * 99 / 100);
+  EXPECT_GT(differ_from_paper, n * n / 20);
+}
+
 // The coarse agreement (coarse_agreement.comp): the confidence with it is the confidence without
 // it times coarse_agreement_cpu's factor, computed from the filter's level 1 as the GPU left it
 // and the final (post-filtered) distances; the distances stay the same.

@@ -51,7 +51,7 @@ std::vector<float> isb_filter_gpu(gpu::Context& context, const std::vector<std::
   volume.upload(values, channels);
   gpu::Buffer guide_buffer(context, guide.size() * 4);
   guide_buffer.upload(std::span<const std::uint32_t>(guide));
-  IsbFilter filter(context, width, height, layout);
+  IsbFilter filter(context, width, height, layout, params.sigma_s_confident > 0);
   gpu::Sequence seq(context);
   seq.begin();
   filter.record(seq, guide_buffer, volume, params);

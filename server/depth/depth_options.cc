@@ -46,6 +46,9 @@ void DepthOptions::check(int num_cameras) const {
     fail("max-dist: must be finite and larger than min-dist");
   if (!(sigma_i > 0) || !std::isfinite(sigma_i)) fail("sigma-i: must be positive");
   if (!(sigma_s > 0) || !std::isfinite(sigma_s)) fail("sigma-s: must be positive");
+  if (!(confident_sigma_s >= 0) || !std::isfinite(confident_sigma_s))
+    fail("confident-sigma-s: " + std::to_string(confident_sigma_s) +
+         " must be 0 (off) or a positive number of pixels");
   if (!matching_cost_named(name_of(cost))) fail("cost: not a matching cost");
   if (feature_radius < 1 || feature_radius > 16)
     fail("feature-radius: " + std::to_string(feature_radius) + " must be within [1, 16]");

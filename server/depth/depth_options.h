@@ -38,6 +38,11 @@ struct DepthOptions {
   double max_distance = 100.0;           // d_max, metres
   double sigma_i = 10.0;                 // range sigma of the ISB filter (8-bit guide units)
   double sigma_s = 25.0;  // spatial sigma for 1024 px; scaled with the matching width
+  // Where the raw cost curves around a pixel are confident (their mean confidence, wta.glsl,
+  // from 0.5 to 0.7), the spatial sigma falls from sigma_s to this (1024 px, scaled like it):
+  // curves that already single out a distance need less of their neighbourhood
+  // (docs/accuracy.md). 0: off, the paper's filter.
+  double confident_sigma_s = 0;
   int matching_width = 1024;
   int matching_height = 1024;
   bool post_filter = true;  // step 6; off only to inspect the raw winner-takes-all
@@ -78,6 +83,7 @@ struct DepthOptions {
   }
   // sigma_s at the matching resolution (ALGORITHM.md §3 step 4).
   double scaled_sigma_s() const { return sigma_s * matching_width / 1024.0; }
+  double scaled_confident_sigma_s() const { return confident_sigma_s * matching_width / 1024.0; }
   // 1 / d of fractional candidate index k (k = 0: d_min, k = N - 1: d_max).
   double inverse_distance(double k) const {
     return 1.0 / min_distance +

@@ -290,7 +290,10 @@ std::vector<std::uint32_t> ycbcr_guide_cpu(const Rgb8Image& rgb) {
 
 std::vector<float> isb_filter_cpu(std::vector<std::uint32_t> guide, std::vector<float> values,
                                   int width, int height, int channels, double sigma_i,
-                                  double sigma_s) {
+                                  double sigma_s, double sigma_s_confident) {
+  const bool confident = sigma_s_confident > 0;
+  if (!confident)
+    for (auto& g : guide) g &= 0x00ffffffu;
   // Single precision throughout, in the order the shaders sum, as a GPU computes it.
   const float inv2s = float(1.0 / (2 * sigma_i * sigma_i));
   const int levels = std::max(1, int(std::floor(std::log2(double(std::min(width, height))))) - 1);
@@ -306,6 +309,7 @@ std::vector<float> isb_filter_cpu(std::vector<std::uint32_t> guide, std::vector<
         const std::uint32_t centre = g[l][std::size_t(2 * y) * w[l] + std::size_t(2) * x];
         float total = 0;
         std::array<float, 3> gsum = {0, 0, 0};
+        float confidence_sum = 0;
         std::vector<float> acc(channels, 0.0f);
         for (int dy = -1; dy <= 1; ++dy) {
           for (int dx = -1; dx <= 1; ++dx) {
@@ -319,11 +323,14 @@ std::vector<float> isb_filter_cpu(std::vector<std::uint32_t> guide, std::vector<
             total += weight;
             const auto gq = unpack(g[l][q]);
             for (int k = 0; k < 3; ++k) gsum[k] += weight * gq[k];
+            confidence_sum += weight * float(g[l][q] >> 24);
             for (int c = 0; c < channels; ++c) acc[c] += weight * v[l][q * channels + c];
           }
         }
         const std::size_t o = std::size_t(y) * cw + x;
-        cg[o] = round_pack({gsum[0] / total, gsum[1] / total, gsum[2] / total});
+        cg[o] = round_pack({gsum[0] / total, gsum[1] / total, gsum[2] / total}) |
+                (std::uint32_t(std::clamp(std::floor(confidence_sum / total + 0.5f), 0.0f, 255.0f))
+                 << 24);
         const float inv_total = 1.0f / total;
         for (int c = 0; c < channels; ++c) cv[o * channels + c] = acc[c] * inv_total;
       }
@@ -335,8 +342,7 @@ std::vector<float> isb_filter_cpu(std::vector<std::uint32_t> guide, std::vector<
   }
   for (int l = levels - 2; l >= 0; --l) {  // up
     const double scale = std::ldexp(1.0, l) - 0.5;
-    const float w_down = float(std::exp(-scale * scale / (2 * sigma_s * sigma_s))),
-                w_up = 1.0f - w_down;
+    const float level_w_down = float(std::exp(-scale * scale / (2 * sigma_s * sigma_s)));
     const int cw = w[l + 1], ch = h[l + 1];
     for (int fy = 0; fy < h[l]; ++fy) {
       for (int fx = 0; fx < w[l]; ++fx) {
@@ -356,6 +362,13 @@ std::vector<float> isb_filter_cpu(std::vector<std::uint32_t> guide, std::vector<
         }
         const std::size_t f = std::size_t(fy) * w[l] + fx;
         const std::uint32_t own = g[l][f];
+        float w_down = level_w_down;
+        if (confident) {  // isb_weights.glsl's confident_w_down
+          const float a = std::clamp((float(own >> 24) / 255.0f - 0.5f) / 0.2f, 0.0f, 1.0f);
+          const float sigma = float(sigma_s) + (float(sigma_s_confident) - float(sigma_s)) * a;
+          w_down = std::exp(-float(scale * scale) / (2.0f * sigma * sigma));
+        }
+        const float w_up = 1.0f - w_down;
         const auto go = unpack(own);
         float total = w_up;
         std::array<float, 3> gsum = {w_up * go[0], w_up * go[1], w_up * go[2]};
@@ -377,7 +390,8 @@ std::vector<float> isb_filter_cpu(std::vector<std::uint32_t> guide, std::vector<
             sum += weight[j] * v[l + 1][index[j] * channels + c];
           v[l][f * channels + c] = sum * inv_total;
         }
-        g[l][f] = round_pack({gsum[0] * inv_total, gsum[1] * inv_total, gsum[2] * inv_total});
+        g[l][f] = round_pack({gsum[0] * inv_total, gsum[1] * inv_total, gsum[2] * inv_total}) |
+                  (own & 0xff000000u);
       }
     }
   }

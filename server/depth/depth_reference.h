@@ -60,10 +60,13 @@ std::vector<std::uint32_t> ycbcr_guide_cpu(const Rgb8Image& rgb);
 // The ISB filter (ALGORITHM.md §4) on width x height pixels of `channels` floats
 // (values[p * channels + c]), guided by packed 8-bit guides; returns the filtered values.
 // Computed in float in the shaders' order of summation, so that the 8-bit rounding of guides
-// decides the same way as on a GPU.
+// decides the same way as on a GPU. With sigma_s_confident > 0 the guides' fourth byte is a
+// confidence (255 = 1), averaged down with the guide's weights and kept up, and each pixel's
+// spatial sigma falls from sigma_s at confidence 0.5 to sigma_s_confident at 0.7
+// (isb_weights.glsl); otherwise the fourth byte is ignored and left 0.
 std::vector<float> isb_filter_cpu(std::vector<std::uint32_t> guide, std::vector<float> values,
                                   int width, int height, int channels, double sigma_i,
-                                  double sigma_s);
+                                  double sigma_s, double sigma_s_confident = 0);
 
 // Winner takes all with the parabola step on one pixel's N costs: the distance in metres.
 float winner_take_all_cpu(const float* costs, const DepthOptions& options);

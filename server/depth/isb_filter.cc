@@ -23,25 +23,29 @@ struct UpPush {
   std::uint32_t fine_guide_first;
   WtaParams wta;  // read by the kWinnerTakesAll variant only
   std::uint32_t distance_first;
+  float scale_sq, sigma_s, sigma_confident;  // read with kConfidentSigma only
 };
 
 using gpu::BindingSlot;
 
-gpu::KernelLayout down_layout(VolumeLayout layout) {
-  return volume_kernel_layout(
-      {BindingSlot::texels(), 1, BindingSlot::texels(kMaxChunks), kMaxChunks}, sizeof(DownPush),
-      layout);
+gpu::KernelLayout down_layout(VolumeLayout layout, bool confident_sigma) {
+  gpu::KernelLayout k =
+      volume_kernel_layout({BindingSlot::texels(), 1, BindingSlot::texels(kMaxChunks), kMaxChunks},
+                           sizeof(DownPush), layout);
+  k.constants.push_back(gpu::SpecConstant::of(3, std::uint32_t(confident_sigma)));
+  return k;
 }
 
 // Bindings: the fine guide and volume are written as storage buffers (0, 2) and read as texel
 // buffers (5, 6) of the same memory; the coarse level is read only; the fused winner writes
 // distances (4) and confidences (7).
-gpu::KernelLayout up_layout(VolumeLayout layout, bool winner_take_all) {
+gpu::KernelLayout up_layout(VolumeLayout layout, bool winner_take_all, bool confident_sigma) {
   gpu::KernelLayout k =
       volume_kernel_layout({1, BindingSlot::texels(), kMaxChunks, BindingSlot::texels(kMaxChunks),
                             1, BindingSlot::texels(), BindingSlot::texels(kMaxChunks), 1},
                            sizeof(UpPush), layout);
   k.constants.push_back(gpu::SpecConstant::of(2, std::uint32_t(winner_take_all)));
+  k.constants.push_back(gpu::SpecConstant::of(3, std::uint32_t(confident_sigma)));
   return k;
 }
 
@@ -56,13 +60,18 @@ int isb_levels(int width, int height) {
   return std::max(1, log2_min - 1);
 }
 
-IsbFilter::IsbFilter(gpu::Context& context, int width, int height, VolumeLayout layout)
+IsbFilter::IsbFilter(gpu::Context& context, int width, int height, VolumeLayout layout,
+                     bool confident_sigma)
     : context_(&context),
       layout_(layout),
+      confident_sigma_(confident_sigma),
       dummy_(context, 16),
-      down_(context, volume_shader(gpu::Shader::kIsbDownsample, layout), down_layout(layout)),
-      up_(context, volume_shader(gpu::Shader::kIsbUpsample, layout), up_layout(layout, false)),
-      up_wta_(context, volume_shader(gpu::Shader::kIsbUpsample, layout), up_layout(layout, true)) {
+      down_(context, volume_shader(gpu::Shader::kIsbDownsample, layout),
+            down_layout(layout, confident_sigma)),
+      up_(context, volume_shader(gpu::Shader::kIsbUpsample, layout),
+          up_layout(layout, false, confident_sigma)),
+      up_wta_(context, volume_shader(gpu::Shader::kIsbUpsample, layout),
+              up_layout(layout, true, confident_sigma)) {
   if (!context.info().buffer_array_indexing) {
     throw gpu::GpuError(context.info().name +
                         " lacks shaderStorageBufferArrayDynamicIndexing, which the filter needs");
@@ -102,12 +111,20 @@ void IsbParams::check() const {
     throw reproject::option_error("IsbParams", "sigma_i", sigma_i, "a positive number");
   if (!(sigma_s > 0) || !std::isfinite(sigma_s))
     throw reproject::option_error("IsbParams", "sigma_s", sigma_s, "a positive number");
+  if (!(sigma_s_confident >= 0) || !std::isfinite(sigma_s_confident))
+    throw reproject::option_error("IsbParams", "sigma_s_confident", sigma_s_confident,
+                                  "0 or a positive number");
 }
 
 void IsbFilter::record(gpu::Sequence& seq, gpu::Buffer& guide, CostVolume& volume,
                        const IsbParams& params, gpu::Buffer* distance, gpu::Buffer* confidence,
                        const WtaParams& wta, int guide_first, int distance_first) {
   params.check();
+  if (confident_sigma_ != (params.sigma_s_confident > 0)) {
+    throw std::invalid_argument(
+        confident_sigma_ ? "ISB filter: made for a confident sigma, but sigma_s_confident is 0"
+                         : "ISB filter: sigma_s_confident needs a filter made for it");
+  }
   if (volume.layout().slots != layout_.slots)
     throw std::invalid_argument("ISB filter: the volume's slots differ from the filter's");
   if (guide_first < 0 || distance_first < 0)
@@ -141,7 +158,8 @@ void IsbFilter::record(gpu::Sequence& seq, gpu::Buffer& guide, CostVolume& volum
          volume_at(l).texels(dummy_), fused ? *confidence : dummy_},
         UpPush{std::uint32_t(fw), std::uint32_t(fh), std::uint32_t(cw), std::uint32_t(ch),
                inv_two_sigma_sq, w_down, std::uint32_t(l == 0 ? guide_first : 0),
-               fused ? wta : WtaParams{}, std::uint32_t(distance_first)},
+               fused ? wta : WtaParams{}, std::uint32_t(distance_first), float(scale * scale),
+               float(params.sigma_s), float(params.sigma_s_confident)},
         up_.groups_for(cw, ch, slots));  // one invocation per coarse pixel
     seq.barrier();
   }

@@ -16,6 +16,10 @@ namespace omnisweep::depth {
 struct IsbParams {
   double sigma_i = 10.0;  // range sigma, 8-bit guide units
   double sigma_s = 25.0;  // spatial sigma in pixels of this resolution
+  // With a filter made for it: where the guide's fourth byte (the raw cost curves' confidence,
+  // 255 = 1) is at least 0.5, the spatial sigma falls linearly to this at 0.7 (isb_weights.glsl,
+  // DepthOptions::confident_sigma_s); 0 with any other filter.
+  double sigma_s_confident = 0;
   // Throws std::invalid_argument naming the field, its value and what is allowed.
   void check() const;
 };
@@ -32,8 +36,10 @@ int isb_levels(int width, int height);
 class IsbFilter {
  public:
   // A filter for width x height volumes with `layout` (every slot of it in each dispatch);
-  // allocates the coarser levels.
-  IsbFilter(gpu::Context& context, int width, int height, VolumeLayout layout);
+  // allocates the coarser levels. `confident_sigma`: its guides carry the raw curves'
+  // confidence in their fourth byte, and IsbParams::sigma_s_confident applies (then > 0).
+  IsbFilter(gpu::Context& context, int width, int height, VolumeLayout layout,
+            bool confident_sigma = false);
 
   // Records the filter into `seq`: `volume` (full resolution) is filtered in place; `guide`
   // (packed 8-bit, 3 channels, a width x height plane per slot from plane `guide_first` on) is
@@ -63,6 +69,7 @@ class IsbFilter {
 
   gpu::Context* context_;
   VolumeLayout layout_;
+  bool confident_sigma_;
   std::vector<std::pair<int, int>> sizes_;  // per level
   std::vector<gpu::Buffer> guides_;         // levels 1..L-1
   std::vector<CostVolume> volumes_;         // levels 1..L-1

@@ -113,16 +113,22 @@ std::vector<float> random_values(const Case& c, std::mt19937& rng) {
 }
 
 // Filters random values guided by random guides on the GPU and in plain C++ for every odd size.
+// With sigma_confident > 0 the guides' fourth byte holds random confidences as well.
 template <typename Check>
-void compare_on_odd_sizes(gpu::Context& context, unsigned seed, double sigma_i, Check&& check) {
+void compare_on_odd_sizes(gpu::Context& context, unsigned seed, double sigma_i, Check&& check,
+                          double sigma_confident = 0) {
   std::mt19937 rng(seed);
+  std::uniform_int_distribution<std::uint32_t> byte(0, 255);
   for (const Case& c : kOddSizes) {
-    const auto guide = random_guide(c.w * c.h, rng);
+    auto guide = random_guide(c.w * c.h, rng);
+    if (sigma_confident > 0)
+      for (auto& g : guide) g |= byte(rng) << 24;
     const auto values = random_values(c, rng);
-    const IsbParams params{sigma_i, 25.0 * c.w / 1024.0 * 8};
+    const double scale = c.w / 1024.0 * 8;
+    const IsbParams params{sigma_i, 25.0 * scale, sigma_confident * scale};
     check(c, compare(isb_filter_gpu(context, guide, values, c.w, c.h, c.channels, params),
                      isb_filter_cpu(guide, values, c.w, c.h, c.channels, params.sigma_i,
-                                    params.sigma_s)));
+                                    params.sigma_s, params.sigma_s_confident)));
   }
 }
 
@@ -147,6 +153,46 @@ TEST_F(IsbFilterTest, EqualsThePlainImplementationOnRandomGuides) {
     EXPECT_GE(d.within_1e3, 0.999);
     EXPECT_LT(d.worst, 0.02);
   });
+}
+
+// The confident sigma (isb_weights.glsl): each pixel's spatial sigma from its guide's fourth
+// byte, which the down pass averages and the up pass keeps. As above, on random confidences,
+// which round to 8 bits at every level like the guide: a few more values near a flipped
+// rounding differ by up to a few per cent.
+TEST_F(IsbFilterTest, EqualsThePlainImplementationWithAConfidentSigma) {
+  compare_on_odd_sizes(
+      context(), 13, 10.0,
+      [](const Case& c, const Comparison& d) {
+        std::cout << c.w << "x" << c.h << "x" << c.channels
+                  << " (confident sigma): " << 100 * d.within_1e3
+                  << " % of values within 1e-3 relative, largest difference " << d.worst << "\n";
+        EXPECT_GE(d.within_1e3, 0.999);
+        EXPECT_LT(d.worst, 0.05);
+      },
+      12.0);
+  // The confidences matter: the same values filtered as if they were all 0 differ.
+  std::mt19937 rng(5);
+  const Case c = kOddSizes[1];
+  auto guide = random_guide(c.w * c.h, rng);
+  for (auto& g : guide) g |= 255u << 24;
+  const auto values = random_values(c, rng);
+  const double scale = c.w / 1024.0 * 8;
+  const auto confident =
+      isb_filter_cpu(guide, values, c.w, c.h, c.channels, 10.0, 25.0 * scale, 12.0 * scale);
+  const auto paper = isb_filter_cpu(guide, values, c.w, c.h, c.channels, 10.0, 25.0 * scale);
+  EXPECT_LT(compare(confident, paper).within_1e3, 0.5);
+}
+
+TEST_F(IsbFilterTest, AConfidentSigmaNeedsAFilterMadeForIt) {
+  const int w = 16, h = 16;
+  const VolumeLayout layout = plan_volume(context(), w, h, 1);
+  CostVolume volume(context(), w, h, layout);
+  gpu::Buffer guide(context(), std::size_t(w) * h * 4);
+  IsbFilter paper(context(), w, h, layout), confident(context(), w, h, layout, true);
+  gpu::Sequence seq(context());
+  seq.begin();
+  EXPECT_THROW(paper.record(seq, guide, volume, {10.0, 25.0, 12.0}), std::invalid_argument);
+  EXPECT_THROW(confident.record(seq, guide, volume, {10.0, 25.0}), std::invalid_argument);
 }
 
 }  // namespace

@@ -251,6 +251,12 @@ TEST(MatchingCostOptions, NamesRoundTripAndBadValuesAreNamed) {
   options = {};
   options.ratio_epsilon = -1;
   EXPECT_THROW(options.check(4), std::invalid_argument);
+  options = {};
+  options.confident_sigma_s = -3;
+  EXPECT_NE(omnisweep::testing::error_message<std::invalid_argument>([&] {
+              options.check(4);
+            }).find("confident-sigma-s: -3"),
+            std::string::npos);
 }
 
 }  // namespace

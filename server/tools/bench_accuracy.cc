@@ -40,6 +40,7 @@ struct Variant {
   depth::MatchingCost cost;
   bool correct_photometry;
   int match_cameras = 1;
+  double confident_sigma_s = 0;  // DepthOptions::confident_sigma_s
 };
 
 constexpr Variant kVariants[] = {
@@ -54,6 +55,9 @@ constexpr Variant kVariants[] = {
     {"nad-census", depth::MatchingCost::kNormalisedCensus, false},
     {"ratio", depth::MatchingCost::kRatio, false},
     {"ratio, 2 cameras", depth::MatchingCost::kRatio, false, 2},
+    {"ad, confident 12", depth::MatchingCost::kAbsoluteDifference, false, 1, 12},
+    {"ad + correction, 2 cameras, confident 12", depth::MatchingCost::kAbsoluteDifference, true, 2,
+     12},
 };
 
 AccuracySet synthetic_set(const AccuracySectionOptions& options, bool lenses, int width,
@@ -122,6 +126,7 @@ Row run(gpu::Context& context, const AccuracySet& set, const Variant& variant,
   depth_options.cost = variant.cost;
   depth_options.correct_photometry = variant.correct_photometry;
   depth_options.match_cameras = variant.match_cameras;
+  depth_options.confident_sigma_s = variant.confident_sigma_s;
   if (options.resolution > 0)
     depth_options.matching_width = depth_options.matching_height = options.resolution;
   const Rig matching_rig =
@@ -193,7 +198,7 @@ void accuracy_section(gpu::Context& context, const AccuracySectionOptions& optio
         "wall time per frame here; Xavier: the cost model's GPU time, without host work; "
         "MAE@80: the MAE of the 80 %% most confident pixels; AUSE: the area between the "
         "confidence's sparsification curve and the oracle's)\n");
-    std::printf("%-30s %-32s %8s %8s %7s %7s %8s %7s %8s %8s %8s %8s\n", "variant", "data", "MAE",
+    std::printf("%-40s %-32s %8s %8s %7s %7s %8s %7s %8s %8s %8s %8s\n", "variant", "data", "MAE",
                 "RMSE", ">0.1 %", ">0.4 %", "PSNR dB", "SSIM", "MAE@80", "AUSE", "ms", "Xavier");
   }
   for (const AccuracySet& set : sets) {
@@ -209,7 +214,7 @@ void accuracy_section(gpu::Context& context, const AccuracySectionOptions& optio
             r.mean.bad_0_1, r.mean.bad_0_4, r.mean.psnr, r.mean.ssim, r.mae_at_80, r.ause, r.ms,
             r.xavier_ms);
       } else {
-        std::printf("%-30s %-32s %8.4f %8.4f %7.2f %7.2f %8.2f %7.3f %8.4f %8.4f %8.0f %8.2f\n",
+        std::printf("%-40s %-32s %8.4f %8.4f %7.2f %7.2f %8.2f %7.3f %8.4f %8.4f %8.0f %8.2f\n",
                     variant.name, set.name.c_str(), r.mean.mae, r.mean.rmse, 100 * r.mean.bad_0_1,
                     100 * r.mean.bad_0_4, r.mean.psnr, r.mean.ssim, r.mae_at_80, r.ause, r.ms,
                     r.xavier_ms);

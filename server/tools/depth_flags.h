@@ -88,10 +88,14 @@ inline void add_depth_flags(CLI::App& app, depth::DepthOptions& options, std::st
                  "At most this many references per dispatch, each with its cost volume in "
                  "memory (default 0: all)")
       ->check(CLI::Range(0, 8));
+  app.add_option("--confident-sigma-s", options.confident_sigma_s,
+                 "Where the raw cost curves are confident, lower the ISB filter's spatial sigma "
+                 "to this, at 1024 px (default 0: off, the paper's; docs/accuracy.md)")
+      ->check(CLI::Range(0.0, 1e3));
   add_matching_cost_flags(app, options);
   app.add_option("--coarse-agreement", options.coarse_agreement,
                  "Lower the confidence where the distance disagrees with its 8x8 block's filtered "
-                 "winner: tolerance in m^-1 (default 0: off; docs/accuracy.md)")
+                 "winner: tolerance in m^-1 (default 0.03; 0 turns it off; docs/accuracy.md)")
       ->check(CLI::Range(0.0, 1e3));
   app.add_option(
       "--vk-device", device,
