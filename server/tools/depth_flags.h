@@ -11,7 +11,8 @@
 
 namespace omnisweep::tools {
 
-// --cost and the parameters of its features.
+// The variants beyond the paper's matching (docs/accuracy.md): --cost and the parameters of its
+// features, the photometric correction, the cameras matched and the confident sigma.
 inline void add_matching_cost_flags(CLI::App& app, depth::DepthOptions& options) {
   std::string names;
   for (const auto& entry : depth::kMatchingCostNames)
@@ -53,6 +54,10 @@ inline void add_matching_cost_flags(CLI::App& app, depth::DepthOptions& options)
       ->check(CLI::Range(1, 16));
   app.add_option("--census-scale", options.census_scale, "Cost of one differing census bit")
       ->check(CLI::NonNegativeNumber);
+  app.add_option("--confident-sigma-s", options.confident_sigma_s,
+                 "Where the raw cost curves are confident, lower the ISB filter's spatial sigma "
+                 "to this, at 1024 px (default 0: off, the paper's; docs/accuracy.md)")
+      ->check(CLI::Range(0.0, 1e3));
 }
 
 // --references, --candidates, --min-dist, --max-dist, --sigma-i, --sigma-s,
@@ -88,10 +93,6 @@ inline void add_depth_flags(CLI::App& app, depth::DepthOptions& options, std::st
                  "At most this many references per dispatch, each with its cost volume in "
                  "memory (default 0: all)")
       ->check(CLI::Range(0, 8));
-  app.add_option("--confident-sigma-s", options.confident_sigma_s,
-                 "Where the raw cost curves are confident, lower the ISB filter's spatial sigma "
-                 "to this, at 1024 px (default 0: off, the paper's; docs/accuracy.md)")
-      ->check(CLI::Range(0.0, 1e3));
   add_matching_cost_flags(app, options);
   app.add_option("--coarse-agreement", options.coarse_agreement,
                  "Lower the confidence where the distance disagrees with its 8x8 block's filtered "
