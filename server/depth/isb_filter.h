@@ -42,8 +42,9 @@ class IsbFilter {
             bool confident_sigma = false);
 
   // Records the filter into `seq`: `volume` (full resolution) is filtered in place; `guide`
-  // (packed 8-bit, 3 channels, a width x height plane per slot from plane `guide_first` on) is
-  // consumed: it ends up holding the smoothed guides.
+  // (packed 8-bit, 3 channels, a width x height plane per slot from plane `guide_first` on; a
+  // filter made for a confident sigma also reads the fourth byte) is consumed: it ends up
+  // holding the smoothed guides.
   void record(gpu::Sequence& seq, gpu::Buffer& guide, CostVolume& volume, const IsbParams& params,
               int guide_first = 0);
   // The same, ending in winner-takes-all: the last pass writes each pixel's winning distance to
