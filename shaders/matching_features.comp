@@ -11,8 +11,9 @@
 //   128 I / (mean + epsilon), clamped to [0, 255]. The mean is Gaussian (sigma radius / 2) over
 //   9 x 9 taps k radius / 4 (integer division) from the pixel, of usable pixels only (the
 //   cameras' usable masks): the black beyond the image circle and the rig's own parts would
-//   otherwise pull the mean down near them, differently in every camera. A gain, a cast or a vignetting smooth over the window cancels; the contrast, unlike
-//   nad's, is not raised to unit deviation, so the noise of plain surfaces stays small.
+//   otherwise pull the mean down near them, differently in every camera. A gain, a cast or a
+//   vignetting smooth over the window cancels; the contrast, unlike nad's, is not raised to unit
+//   deviation, so the noise of plain surfaces stays small.
 // - A: an 8-bit census of the luminance: bit k set where the neighbour at census_radius in
 //   direction k (E, NE, N, NW, W, SW, S, SE) is brighter than the pixel by more than 1 level.
 // z is the camera.

@@ -429,8 +429,10 @@ std::vector<float> DepthEstimator::cost_volume(std::span<const Rgb8View> images,
     record_features(sequence_);
     sequence_.barrier();
   }
-  if (filtered || confident_sigma()) record_guides(sequence_);
-  if (confident_sigma()) sequence_.barrier();  // the sweep writes into the guides
+  if (filtered) {
+    record_guides(sequence_);
+    if (confident_sigma()) sequence_.barrier();  // the sweep writes into the guides
+  }
   record_group(sequence_, first, filtered, false);
   sequence_.submit_and_wait();
   return volume_.download(options_.num_candidates, slot - first);
