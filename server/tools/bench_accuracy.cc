@@ -55,9 +55,9 @@ constexpr Variant kVariants[] = {
     {"nad-census", depth::MatchingCost::kNormalisedCensus, false},
     {"ratio", depth::MatchingCost::kRatio, false},
     {"ratio, 2 cameras", depth::MatchingCost::kRatio, false, 2},
-    {"ad, confident 12", depth::MatchingCost::kAbsoluteDifference, false, 1, 12},
-    {"ad + correction, 2 cameras, confident 12", depth::MatchingCost::kAbsoluteDifference, true, 2,
-     12},
+    {"ad, confident 5", depth::MatchingCost::kAbsoluteDifference, false, 1, 5},
+    {"ad + correction, 2 cameras, confident 5", depth::MatchingCost::kAbsoluteDifference, true, 2,
+     5},
 };
 
 AccuracySet synthetic_set(const AccuracySectionOptions& options, bool lenses, int width,
