@@ -96,6 +96,13 @@ TEST(ProcessCli, BadInputGetsAClearError) {
             0);
   EXPECT_NE(out.find("width must be twice the height"), std::string::npos) << out;
 
+  EXPECT_NE(run_command(tool + " --dataset " + (dir.path() / "data").string() + " --output " +
+                            (dir.path() / "out").string() + " --method best" + kSmall,
+                        &out),
+            0);
+  EXPECT_NE(out.find("unknown method 'best' (one of paper, recommended)"), std::string::npos)
+      << out;
+
   // A frame with a broken image is skipped, named, and the run fails; the other frame is written.
   std::ofstream(dir.path() / "data" / "cam1" / "1.png", std::ios::trunc) << "broken";
   EXPECT_NE(run_command(tool + " --dataset " + (dir.path() / "data").string() + " --output " +

@@ -19,6 +19,18 @@ std::optional<MatchingCost> matching_cost_named(std::string_view name) {
   return std::nullopt;
 }
 
+bool apply_method(std::string_view name, DepthOptions& options) {
+  for (const Method& method : kMethods) {
+    if (method.name != name) continue;
+    options.cost = method.cost;
+    options.correct_photometry = method.correct_photometry;
+    options.match_cameras = method.match_cameras;
+    options.confident_sigma_s = method.confident_sigma_s;
+    return true;
+  }
+  return false;
+}
+
 void DepthOptions::check(int num_cameras) const {
   auto fail = [](const std::string& what) { throw std::invalid_argument(what); };
   if (references.empty()) fail("references: at least one reference camera is needed");

@@ -11,9 +11,24 @@
 
 namespace omnisweep::tools {
 
-// The variants beyond the paper's matching (docs/accuracy.md): --cost and the parameters of its
-// features, the photometric correction, the cameras matched and the confident sigma.
+// The variants beyond the paper's matching (docs/accuracy.md): --method, --cost and the
+// parameters of its features, the photometric correction, the cameras matched and the confident
+// sigma. --method is defined first: CLI11 applies options in the order they are defined, so a
+// variant's own flag overrides the method's setting of it.
 inline void add_matching_cost_flags(CLI::App& app, depth::DepthOptions& options) {
+  std::string methods;
+  for (const auto& method : depth::kMethods)
+    methods += (methods.empty() ? "" : ", ") + std::string(method.name);
+  app.add_option_function<std::string>(
+      "--method",
+      [&options, methods](const std::string& name) {
+        if (!depth::apply_method(name, options))
+          throw CLI::ValidationError("--method",
+                                     "unknown method '" + name + "' (one of " + methods + ")");
+      },
+      "Matching variants at once: paper (the default, ALGORITHM.md) or recommended "
+      "(--correct-photometry --match-cameras 2 --confident-sigma-s 5); the variants' own flags "
+      "override it (docs/accuracy.md)");
   std::string names;
   for (const auto& entry : depth::kMatchingCostNames)
     names += (names.empty() ? "" : ", ") + std::string(entry.name);
