@@ -94,8 +94,8 @@ struct DepthOptions {
 // Named methods: each sets the matching variants (cost, photometric correction, cameras matched,
 // confident sigma) at once; every other option keeps its value. "paper" is ALGORITHM.md, the
 // defaults; "recommended" is the most accurate variant measured (docs/accuracy.md): 48 % lower
-// MAE than the paper's on the synthetic frames, 8 % on blender-hall, and it holds under lenses
-// with different gains and vignetting.
+// MAE than the paper's on the synthetic frames, 8 % on blender-hall, and under lenses with
+// different gains and vignetting as accurate as the paper's method without them.
 struct Method {
   std::string_view name;
   MatchingCost cost;
