@@ -11,14 +11,20 @@
 
 namespace omnisweep::tools {
 
+// "a, b, c": the names of a table's entries (depth::kMethods, depth::kMatchingCostNames).
+template <typename Table>
+std::string joined_names(const Table& table) {
+  std::string names;
+  for (const auto& entry : table) names += (names.empty() ? "" : ", ") + std::string(entry.name);
+  return names;
+}
+
 // The variants beyond the paper's matching (docs/accuracy.md): --method, --cost and the
 // parameters of its features, the photometric correction, the cameras matched and the confident
 // sigma. --method is defined first: CLI11 applies options in the order they are defined, so a
 // variant's own flag overrides the method's setting of it.
 inline void add_matching_cost_flags(CLI::App& app, depth::DepthOptions& options) {
-  std::string methods;
-  for (const auto& method : depth::kMethods)
-    methods += (methods.empty() ? "" : ", ") + std::string(method.name);
+  const std::string methods = joined_names(depth::kMethods);
   app.add_option_function<std::string>(
       "--method",
       [&options, methods](const std::string& name) {
@@ -29,9 +35,7 @@ inline void add_matching_cost_flags(CLI::App& app, depth::DepthOptions& options)
       "Matching variants at once: paper (the default, ALGORITHM.md) or recommended "
       "(--correct-photometry --match-cameras 2 --confident-sigma-s 5); the variants' own flags "
       "override it (docs/accuracy.md)");
-  std::string names;
-  for (const auto& entry : depth::kMatchingCostNames)
-    names += (names.empty() ? "" : ", ") + std::string(entry.name);
+  const std::string names = joined_names(depth::kMatchingCostNames);
   app.add_option_function<std::string>(
       "--cost",
       [&options](const std::string& name) {
