@@ -85,6 +85,7 @@ struct RgbdServer::Stages {
                                        .viewpoint = o.viewpoint,
                                        .min_distance = o.depth.min_distance,
                                        .max_distance = o.depth.max_distance,
+                                       .plane_fill = o.plane_fill,
                                        .temporal = o.temporal}),
         gpu_frame(context, estimator, stitcher),
         distance_codec(codec::make_distance_codec(codec::kQinv16Zstd)),

@@ -50,6 +50,8 @@ struct ServerOptions {
   std::optional<ros2::RosOptions> ros2;
   // A Foxglove WebSocket server for the ROS 2 topics (needs `ros2`); none when unset.
   std::optional<foxglove::FoxgloveOptions> foxglove;
+  // The plane fill's confidence (StitchOptions::plane_fill, stitch/plane_fill.h); 0: off.
+  double plane_fill = 0.0;
   // A temporal filter on the distance (stitch/temporal_filter.h); none by default.
   std::optional<stitch::TemporalOptions> temporal;
   bool exit_on_source_end = false;  // else a stalled or ended source is reported and retried

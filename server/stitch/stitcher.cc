@@ -59,6 +59,9 @@ void StitchOptions::check() const {
     throw reproject::option_error("StitchOptions", "confidence_tolerance", confidence_tolerance,
                                   "a positive number (1/m)");
   }
+  if (!(plane_fill >= 0 && plane_fill < 1))
+    throw reproject::option_error("StitchOptions", "plane_fill", plane_fill,
+                                  "a confidence in [0, 1) (0: off)");
 }
 
 Stitcher::Stitcher(gpu::Context& context, const Rig& matching_rig, const Rig& color_rig,
@@ -118,6 +121,11 @@ Stitcher::Stitcher(gpu::Context& context, const Rig& matching_rig, const Rig& co
       reproject::WarpOptions{options.min_distance, options.max_distance, options.inpaint_passes});
 
   compute_weights(usable);
+  if (options.plane_fill > 0) {
+    plane_fill_.emplace(context, options.panorama_width, options.panorama_height,
+                        options.plane_fill, options.min_distance, options.max_distance);
+    merged_distance_.emplace(context, out_distance_.size());
+  }
   if (options.temporal)
     temporal_.emplace(context, options.panorama_width, options.panorama_height, *options.temporal);
   gpu_bytes_ = context.allocated_bytes() - allocated_before_;
@@ -222,11 +230,13 @@ void Stitcher::record(gpu::Sequence& seq, const gpu::Buffer& distance,
   seq.begin_stage("warp");
   warper_->record(seq, distance);  // ends in a barrier
   seq.begin_stage("merge");
+  const bool fill = plane_fill_ && confidence;
+  gpu::Buffer& merged = fill ? *merged_distance_ : out_distance_;
   seq.dispatch(merge_,
                {cameras_, gpu::Texels(weights_, gpu::TexelFormat::kR32Float),
                 gpu::Texels(warper_->result(), gpu::TexelFormat::kR32Uint),
                 gpu::Texels(distance, gpu::TexelFormat::kR32Float),
-                gpu::Texels(color_, gpu::TexelFormat::kR32Uint), out_color_, out_distance_,
+                gpu::Texels(color_, gpu::TexelFormat::kR32Uint), out_color_, merged,
                 gpu::Texels(confidence ? *confidence : distance, gpu::TexelFormat::kR32Float),
                 out_confidence_},
                MergeConfidencePush{std::uint32_t(options_.panorama_width),
@@ -234,6 +244,11 @@ void Stitcher::record(gpu::Sequence& seq, const gpu::Buffer& distance,
                                    std::uint32_t(references_.size()), confidence ? 1u : 0u,
                                    float(options_.confidence_tolerance)},
                merge_.groups_for(options_.panorama_width, options_.panorama_height));
+  if (fill) {
+    seq.barrier();
+    seq.begin_stage("plane fill");
+    plane_fill_->record(seq, out_color_, merged, out_confidence_, out_distance_);
+  }
   if (temporal_) {
     seq.barrier();
     temporal_->record(seq, out_distance_, out_color_);

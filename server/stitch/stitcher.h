@@ -13,6 +13,7 @@
 
 #include "omnisweep/reproject/forward_warp.h"
 #include "omnisweep/rig/rig.h"
+#include "server/stitch/plane_fill.h"
 #include "server/stitch/temporal_filter.h"
 
 namespace omnisweep::stitch {
@@ -28,6 +29,11 @@ struct StitchOptions {
   // what its reference saw, and between references (stitch_merge.comp). About two candidate
   // spacings of the default sweep.
   double confidence_tolerance = 0.1;
+  // The plane fill (plane_fill.h): the confidence below which the merged inverse distance is
+  // replaced by a plane fitted to the confident pixels around it, in [0, 1); 0: off (the
+  // default, ALGORITHM.md). Needs the cost confidences (stitch()'s `confidence`); without them
+  // nothing is filled.
+  double plane_fill = 0.0;
   // A temporal filter on the panorama's distance (temporal_filter.h) for streams: each frame
   // then depends on the ones before it. None by default.
   std::optional<TemporalOptions> temporal;
@@ -105,6 +111,8 @@ class Stitcher {
   gpu::Buffer out_distance_;
   gpu::Buffer out_confidence_;
   gpu::Kernel merge_;
+  std::optional<PlaneFill> plane_fill_;
+  std::optional<gpu::Buffer> merged_distance_;  // the merge's distances, with the plane fill
   std::optional<TemporalFilter> temporal_;
   gpu::Sequence sequence_;
   std::uint64_t gpu_bytes_ = 0;

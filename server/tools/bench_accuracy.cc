@@ -41,6 +41,7 @@ struct Variant {
   bool correct_photometry;
   int match_cameras = 1;
   double confident_sigma_s = 0;  // DepthOptions::confident_sigma_s
+  double plane_fill = 0;         // StitchOptions::plane_fill
 };
 
 constexpr Variant kVariants[] = {
@@ -58,6 +59,11 @@ constexpr Variant kVariants[] = {
     {"ad, confident 5", depth::MatchingCost::kAbsoluteDifference, false, 1, 5},
     {"ad + correction, 2 cameras, confident 5", depth::MatchingCost::kAbsoluteDifference, true, 2,
      5},
+    {"ad, plane fill 0.05", depth::MatchingCost::kAbsoluteDifference, false, 1, 0, 0.05},
+    {"ad, confident 5, plane fill 0.05", depth::MatchingCost::kAbsoluteDifference, false, 1, 5,
+     0.05},
+    {"ad + correction, 2 cameras, confident 5, plane fill 0.05",
+     depth::MatchingCost::kAbsoluteDifference, true, 2, 5, 0.05},
 };
 
 AccuracySet synthetic_set(const AccuracySectionOptions& options, bool lenses, int width,
@@ -141,7 +147,8 @@ Row run(gpu::Context& context, const AccuracySet& set, const Variant& variant,
                              .panorama_height = height,
                              .viewpoint = set.viewpoint,
                              .min_distance = depth_options.min_distance,
-                             .max_distance = depth_options.max_distance});
+                             .max_distance = depth_options.max_distance,
+                             .plane_fill = variant.plane_fill});
   pipeline::GpuFrame gpu_frame(context, estimator, stitcher);
   std::optional<depth::PhotometricCorrector> photometry;
   if (variant.correct_photometry) photometry.emplace(matching_rig, masks);

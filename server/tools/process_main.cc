@@ -56,6 +56,7 @@ int run(int argc, char** argv) {
   const std::vector<int>& panorama = panorama_flags.panorama;
   bool evaluate = false, json = false;
   std::optional<stitch::TemporalOptions> temporal;
+  double plane_fill = 0.0;
   app.add_option("--dataset", dataset_dir, "Dataset in the reference layout")->required();
   app.add_option("--output", output_dir, "Folder for the panoramas (created if missing)")
       ->required();
@@ -65,6 +66,7 @@ int run(int argc, char** argv) {
   app.add_flag("--json", json, "One JSON object per frame, then one with \"summary\": true");
   tools::add_panorama_flags(app, panorama_flags);
   tools::add_depth_flags(app, options, device);
+  tools::add_plane_fill_flag(app, plane_fill);
   tools::add_temporal_flags(app, temporal);
   CLI11_PARSE(app, argc, argv);
 
@@ -105,6 +107,7 @@ int run(int argc, char** argv) {
                                        .max_distance = options.max_distance};
   stitch_options.viewpoint = viewpoint;
   stitch_options.temporal = temporal;
+  stitch_options.plane_fill = plane_fill;
   stitch::Stitcher stitcher(context, matching_rig, color_rig, options.references, masks,
                             stitch_options);
   pipeline::GpuFrame gpu_frame(context, estimator, stitcher);

@@ -1,5 +1,6 @@
 // Command-line flags shared by the programs that stitch panoramas (omnisweep-process,
-// omnisweep-server): the panorama's size, colour resolution and centre, and the temporal filter.
+// omnisweep-server): the panorama's size, colour resolution and centre, the plane fill and the
+// temporal filter.
 #pragma once
 
 #include <CLI/CLI.hpp>
@@ -41,6 +42,15 @@ inline void add_panorama_flags(CLI::App& app, PanoramaFlags& flags) {
                  "Panorama centre x y z in the rig frame, metres (default: dataset.json's, else "
                  "the mean of the references)")
       ->expected(3);
+}
+
+// --plane-fill C into `plane_fill` (StitchOptions::plane_fill).
+inline void add_plane_fill_flag(CLI::App& app, double& plane_fill) {
+  app.add_option("--plane-fill", plane_fill,
+                 "Replace distances less confident than C (0-1; 0.05 measured best, 0: off, the "
+                 "default) by a plane fitted to the confident pixels around them of like colour "
+                 "(docs/accuracy.md)")
+      ->check(CLI::Range(0.0, 0.99));
 }
 
 // --temporal (the filter with its defaults) and --temporal-frames N, into `temporal`.

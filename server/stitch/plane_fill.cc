@@ -1,0 +1,207 @@
+#include "server/stitch/plane_fill.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
+#include <vector>
+
+namespace omnisweep::stitch {
+namespace {
+
+struct FillPush {
+  std::uint32_t width, height;
+  std::int32_t step, taps;
+  float fill_below, support, sigma_c, lambda, inv_d_min, inv_d_max;
+};
+
+FillPush push_for(int width, int height, double fill_below, double min_distance,
+                  double max_distance) {
+  const PlaneFillParams p = PlaneFillParams::for_width(width);
+  return {std::uint32_t(width),
+          std::uint32_t(height),
+          p.step,
+          p.taps,
+          float(fill_below),
+          float(std::max(p.support, fill_below)),
+          float(p.sigma_c),
+          float(p.lambda),
+          float(1.0 / min_distance),
+          float(1.0 / max_distance)};
+}
+
+// plane_fill.comp's table: per column (cos, sin) of the longitude, per row (sin, cos) of the
+// colatitude, then (spatial weight, 0) per tap offset -taps .. taps.
+std::vector<float> ray_table(int width, int height) {
+  const PlaneFillParams p = PlaneFillParams::for_width(width);
+  std::vector<float> table;
+  table.reserve(2 * std::size_t(width + height + 2 * p.taps + 1));
+  for (int x = 0; x < width; ++x) {
+    const double theta = 2.0 * std::numbers::pi * (x + 0.5) / width;
+    table.insert(table.end(), {float(std::cos(theta)), float(std::sin(theta))});
+  }
+  for (int y = 0; y < height; ++y) {
+    const double phi = std::numbers::pi * (y + 0.5) / height;
+    table.insert(table.end(), {float(std::sin(phi)), float(std::cos(phi))});
+  }
+  for (int t = -p.taps; t <= p.taps; ++t) {
+    const double s = double(t) * p.step;
+    table.insert(table.end(), {float(std::exp(-s * s / (2 * p.sigma_s * p.sigma_s))), 0.0f});
+  }
+  return table;
+}
+
+using Ray = std::array<float, 3>;
+
+Ray ray(const FillPush& p, const float* table, int x, int y) {
+  const float* longitude = table + 2 * std::size_t(x);
+  const float* colatitude = table + 2 * (std::size_t(p.width) + y);
+  return {colatitude[0] * longitude[0], colatitude[0] * longitude[1], colatitude[1]};
+}
+
+float spatial(const FillPush& p, const float* table, int t) {
+  return table[2 * (std::size_t(p.width) + p.height + t + p.taps)];
+}
+
+constexpr int kCell = 4;
+
+bool to_fill(const FillPush& p, const float* distance, const float* confidence, std::size_t i) {
+  return distance[i] > 0.0f && confidence[i] < p.fill_below;
+}
+
+// The cell of kCell x kCell pixels from (x0, y0) into `out` (plane_fill.comp's main, step for
+// step).
+void fill_cell(const FillPush& p, const float* table, const float* distance,
+               const float* confidence, const std::uint8_t* rgb, int x0, int y0, float* out) {
+  const int w = int(p.width), h = int(p.height);
+  float colour_sum[3] = {};
+  int targets = 0;
+  for (int y = y0; y < std::min(y0 + kCell, h); ++y) {
+    for (int x = x0; x < std::min(x0 + kCell, w); ++x) {
+      const std::size_t i = std::size_t(y) * w + x;
+      out[i] = distance[i];
+      if (!to_fill(p, distance, confidence, i)) continue;
+      for (int c = 0; c < 3; ++c) colour_sum[c] += float(rgb[3 * i + c]);
+      ++targets;
+    }
+  }
+  if (targets == 0) return;
+  float ci[3];
+  for (int c = 0; c < 3; ++c) ci[c] = colour_sum[c] / float(targets);
+  const Ray r0 = ray(p, table, x0, y0);
+  float m[4][4] = {}, rhs[4] = {}, wsum = 0.0f;  // m[c][r], as the kernel's mat4
+  const float colour_scale = 1.0f / (2.0f * p.sigma_c * p.sigma_c);
+  for (int ty = -p.taps; ty <= p.taps; ++ty) {
+    const int y = y0 + ty * p.step;
+    if (y < 0 || y >= h) continue;
+    const float wy = spatial(p, table, ty);
+    for (int tx = -p.taps; tx <= p.taps; ++tx) {
+      int x = x0 + tx * p.step;
+      x = x < 0 ? x + w : (x >= w ? x - w : x);
+      const std::size_t j = std::size_t(y) * w + x;
+      const float dj = distance[j], cj = confidence[j];
+      if (!(dj > 0.0f) || cj < p.support) continue;
+      float dc2 = 0.0f;
+      for (int c = 0; c < 3; ++c) {
+        const float dc = ci[c] - float(rgb[3 * j + c]);
+        dc2 += dc * dc;
+      }
+      const float wt = cj * std::exp(-dc2 * colour_scale) * (wy * spatial(p, table, tx));
+      const Ray rj = ray(p, table, x, y);
+      const float u[4] = {rj[0] - r0[0], rj[1] - r0[1], rj[2] - r0[2], 1.0f};
+      float wu[4];
+      for (int k = 0; k < 4; ++k) wu[k] = wt * u[k];
+      for (int c = 0; c < 4; ++c)
+        for (int r = 0; r < 4; ++r) m[c][r] += u[r] * wu[c];
+      for (int r = 0; r < 4; ++r) rhs[r] += wu[r] * (1.0f / dj);
+      wsum += wt;
+    }
+  }
+  if (!(wsum > 1e-6f)) return;
+  for (int r = 0; r < 3; ++r) m[r][r] += p.lambda * wsum;
+  float l[4][4] = {}, z[4] = {}, s[4] = {};  // l[c][r]: L's row r, column c
+  for (int r = 0; r < 4; ++r) {
+    for (int c = 0; c <= r; ++c) {
+      float t = m[c][r];
+      for (int k = 0; k < c; ++k) t -= l[k][r] * l[k][c];
+      if (c == r) {
+        if (!(t > 0.0f)) return;
+        l[r][r] = std::sqrt(t);
+      } else {
+        l[c][r] = t / l[c][c];
+      }
+    }
+    float t = rhs[r];
+    for (int k = 0; k < r; ++k) t -= l[k][r] * z[k];
+    z[r] = t / l[r][r];
+  }
+  for (int r = 3; r >= 0; --r) {
+    float t = z[r];
+    for (int k = r + 1; k < 4; ++k) t -= l[r][k] * s[k];
+    s[r] = t / l[r][r];
+  }
+  for (int y = y0; y < std::min(y0 + kCell, h); ++y) {
+    for (int x = x0; x < std::min(x0 + kCell, w); ++x) {
+      const std::size_t i = std::size_t(y) * w + x;
+      if (!to_fill(p, distance, confidence, i)) continue;
+      const Ray ri = ray(p, table, x, y);
+      const float v =
+          s[3] + (s[0] * (ri[0] - r0[0]) + s[1] * (ri[1] - r0[1]) + s[2] * (ri[2] - r0[2]));
+      if (v > 0.0f && !std::isinf(v)) out[i] = 1.0f / std::clamp(v, p.inv_d_max, p.inv_d_min);
+    }
+  }
+}
+
+}  // namespace
+
+PlaneFillParams PlaneFillParams::for_width(int width) {
+  PlaneFillParams p;
+  const double scale = double(width) / 2048.0;
+  p.step = std::max(1, int(std::lround(p.step * scale)));
+  p.sigma_s = 4.0 * p.step;
+  return p;
+}
+
+FloatImage plane_fill_cpu(const Rgb8Image& rgb, const FloatImage& distance,
+                          const FloatImage& confidence, double fill_below, double min_distance,
+                          double max_distance) {
+  if (rgb.width() != distance.width() || rgb.height() != distance.height() ||
+      confidence.width() != distance.width() || confidence.height() != distance.height())
+    throw std::invalid_argument("plane fill: colour, distance and confidence differ in size");
+  const FillPush p =
+      push_for(distance.width(), distance.height(), fill_below, min_distance, max_distance);
+  const std::vector<float> table = ray_table(distance.width(), distance.height());
+  FloatImage out(distance.width(), distance.height());
+  for (int y = 0; y < distance.height(); y += kCell)
+    for (int x = 0; x < distance.width(); x += kCell)
+      fill_cell(p, table.data(), distance.data(), confidence.data(), rgb.data(), x, y, out.data());
+  return out;
+}
+
+PlaneFill::PlaneFill(gpu::Context& context, int width, int height, double fill_below,
+                     double min_distance, double max_distance)
+    : width_(width),
+      height_(height),
+      fill_below_(fill_below),
+      min_distance_(min_distance),
+      max_distance_(max_distance),
+      table_(context, ray_table(width, height).size() * 4),
+      kernel_(context, gpu::Shader::kPlaneFill,
+              {.bindings = {1, 1, 1, 1, 1}, .push_constant_bytes = sizeof(FillPush)}) {
+  table_.upload(std::span<const float>(ray_table(width, height)));
+}
+
+void PlaneFill::record(gpu::Sequence& seq, const gpu::Buffer& color, const gpu::Buffer& distance,
+                       const gpu::Buffer& confidence, gpu::Buffer& out) const {
+  const std::uint64_t bytes = std::uint64_t(width_) * height_ * 4;
+  if (color.size() < bytes || distance.size() < bytes || confidence.size() < bytes ||
+      out.size() < bytes)
+    throw std::invalid_argument("plane fill: the panorama buffers are smaller than its size");
+  seq.dispatch(kernel_, {color, distance, confidence, table_, out},
+               push_for(width_, height_, fill_below_, min_distance_, max_distance_),
+               kernel_.groups_for(std::uint32_t((width_ + kCell - 1) / kCell),
+                                  std::uint32_t((height_ + kCell - 1) / kCell)));
+}
+
+}  // namespace omnisweep::stitch

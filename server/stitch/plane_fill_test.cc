@@ -1,0 +1,133 @@
+// The plane fill: the GPU kernel against the plain C++ version, and what it promises: a floor
+// whose unconfident distances were pulled far comes back onto its plane, confident pixels and
+// pixels of another colour are left alone, and a bad setting is named.
+#include "server/stitch/plane_fill.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+#include <random>
+
+#include "omnisweep/reproject/gpu_camera.h"
+#include "server/stitch/stitcher.h"
+#include "tests/support/gpu_test_support.h"
+
+namespace omnisweep::stitch {
+namespace {
+
+using PlaneFillTest = omnisweep::testing::ValidatedGpuTest;
+
+constexpr int kW = 256, kH = 128;
+constexpr double kMinDistance = 0.55, kMaxDistance = 100.0;
+
+struct Scene {
+  FloatImage truth;  // inverse distance
+  FloatImage distance;
+  FloatImage confidence;
+  Rgb8Image color;
+  std::vector<bool> band;  // the unconfident floor pixels
+};
+
+// A floor 1.5 m below the viewpoint (the lower half, a dark colour) and a wall at 4 m all around
+// above it (a light colour). Confidences are 0.3-1 except in a band of the floor, where they are
+// 0-0.04 and the distance was pulled out to the wall's. A hole (no distance) at one pixel.
+Scene make_scene() {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> confident(0.3f, 1.0f), unconfident(0.0f, 0.04f);
+  std::normal_distribution<float> noise(0.0f, 0.002f);
+  std::uniform_int_distribution<int> jitter(-2, 2);
+  Scene s{FloatImage(kW, kH), FloatImage(kW, kH), FloatImage(kW, kH), Rgb8Image(kW, kH),
+          std::vector<bool>(std::size_t(kW) * kH, false)};
+  for (int y = 0; y < kH; ++y) {
+    const double phi = std::numbers::pi * (y + 0.5) / kH;
+    for (int x = 0; x < kW; ++x) {
+      const std::size_t i = std::size_t(y) * kW + x;
+      const bool floor = std::cos(phi) < -0.4;  // the floor nearer than the wall
+      const float v = floor ? float(-std::cos(phi) / 1.5) : 0.25f;
+      s.truth.data()[i] = v;
+      const bool band = floor && y >= kH * 3 / 4 && y < kH * 7 / 8 && x >= 40 && x < 120;
+      s.band[i] = band;
+      s.distance.data()[i] = 1.0f / (band ? 0.25f : v + noise(rng));
+      s.confidence.data()[i] = band ? unconfident(rng) : confident(rng);
+      for (int c = 0; c < 3; ++c)
+        s.color.data()[3 * i + c] = std::uint8_t((floor ? 70 : 190) + 10 * c + jitter(rng));
+    }
+  }
+  s.distance.data()[std::size_t(kH - 10) * kW + 60] = 0.0f;
+  return s;
+}
+
+FloatImage run_gpu(gpu::Context& context, const Scene& s, double fill_below) {
+  const vk::DeviceSize bytes = vk::DeviceSize(kW) * kH * 4;
+  gpu::Buffer color(context, bytes), distance(context, bytes), confidence(context, bytes),
+      out(context, bytes);
+  std::vector<std::uint32_t> packed(std::size_t(kW) * kH);
+  reproject::pack_rgba8(s.color, packed);
+  color.upload(std::span<const std::uint32_t>(packed));
+  distance.upload(s.distance.data(), bytes);
+  confidence.upload(s.confidence.data(), bytes);
+  const PlaneFill fill(context, kW, kH, fill_below, kMinDistance, kMaxDistance);
+  gpu::Sequence seq(context);
+  seq.begin();
+  fill.record(seq, color, distance, confidence, out);
+  seq.submit_and_wait();
+  FloatImage result(kW, kH);
+  out.download(result.data(), bytes);
+  return result;
+}
+
+double inverse(float d) { return d > 0 ? 1.0 / d : 0.0; }
+
+TEST_F(PlaneFillTest, EqualsCpu) {
+  const Scene s = make_scene();
+  const FloatImage gpu = run_gpu(context(), s, 0.05);
+  const FloatImage cpu =
+      plane_fill_cpu(s.color, s.distance, s.confidence, 0.05, kMinDistance, kMaxDistance);
+  double worst = 0;
+  for (std::size_t i = 0; i < cpu.size(); ++i)
+    worst = std::max(worst, std::abs(inverse(gpu.data()[i]) - inverse(cpu.data()[i])));
+  EXPECT_LT(worst, 1e-4) << "largest inverse-distance difference, 1/m";
+}
+
+TEST_F(PlaneFillTest, PutsAPulledFloorBackOnItsPlane) {
+  const Scene s = make_scene();
+  const FloatImage out = run_gpu(context(), s, 0.05);
+  double before = 0, after = 0;
+  int band = 0;
+  for (std::size_t i = 0; i < out.size(); ++i) {
+    if (!s.band[i] || s.distance.data()[i] == 0) continue;
+    before += std::abs(inverse(s.distance.data()[i]) - s.truth.data()[i]);
+    after += std::abs(inverse(out.data()[i]) - s.truth.data()[i]);
+    ++band;
+  }
+  ASSERT_GT(band, 1000);
+  EXPECT_GT(before / band, 0.3);
+  EXPECT_LT(after / band, 0.03) << "the band's MAE after the fill, 1/m (before " << before / band
+                                << ")";
+  for (std::size_t i = 0; i < out.size(); ++i) {
+    if (!s.band[i]) ASSERT_EQ(out.data()[i], s.distance.data()[i]) << "pixel " << i;
+  }
+  // Below no confidence (0): nothing changes.
+  const FloatImage none = run_gpu(context(), s, 0.0);
+  for (std::size_t i = 0; i < none.size(); ++i)
+    ASSERT_EQ(none.data()[i], s.distance.data()[i]) << "pixel " << i;
+}
+
+TEST(PlaneFillOptions, BadSettingIsNamed) {
+  StitchOptions options;
+  options.plane_fill = 1.0;
+  try {
+    options.check();
+    FAIL() << "plane_fill 1 was accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("plane_fill"), std::string::npos) << e.what();
+  }
+  options.plane_fill = -0.1;
+  EXPECT_THROW(options.check(), std::invalid_argument);
+  options.plane_fill = 0.05;
+  EXPECT_NO_THROW(options.check());
+}
+
+}  // namespace
+}  // namespace omnisweep::stitch
