@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 
@@ -29,6 +30,15 @@ bool apply_method(std::string_view name, DepthOptions& options) {
     return true;
   }
   return false;
+}
+
+std::string method_flags(const Method& method) {
+  std::ostringstream flags;
+  if (method.cost != MatchingCost::kAbsoluteDifference) flags << " --cost " << name_of(method.cost);
+  if (method.correct_photometry) flags << " --correct-photometry";
+  if (method.match_cameras != 1) flags << " --match-cameras " << method.match_cameras;
+  if (method.confident_sigma_s > 0) flags << " --confident-sigma-s " << method.confident_sigma_s;
+  return flags.str().empty() ? "" : flags.str().substr(1);
 }
 
 void DepthOptions::check(int num_cameras) const {

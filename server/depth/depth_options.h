@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstddef>
 #include <optional>
+#include <string>
 #include <string_view>
 #include <vector>
 
@@ -109,5 +110,8 @@ inline constexpr Method kMethods[] = {
 // Sets `options`' matching variants to the named method's; false (and `options` unchanged) where
 // no method has that name.
 bool apply_method(std::string_view name, DepthOptions& options);
+// The flags that a method stands for, e.g. "--correct-photometry --match-cameras 2" ("" for the
+// paper's).
+std::string method_flags(const Method& method);
 
 }  // namespace omnisweep::depth

@@ -36,6 +36,7 @@
 #include "server/tools/bench_security.h"
 #include "server/tools/bench_stats.h"
 #include "server/tools/depth_flags.h"
+#include "server/tools/stitch_flags.h"
 
 namespace {
 
@@ -328,7 +329,9 @@ int run(int argc, char** argv) {
                  "Development dataset with ground truth for the accuracy section (default "
                  "../shared/data/blender-hall; empty: none)");
   depth::DepthOptions model_options;
+  double model_plane_fill = 0.0;
   tools::add_matching_cost_flags(app, model_options);
+  tools::add_plane_fill_flag(app, model_plane_fill);
   CLI11_PARSE(app, argc, argv);
 
   gpu::Context context(tools::context_options(device));
@@ -342,7 +345,8 @@ int run(int argc, char** argv) {
   const auto want = [&](const char* section) {
     return std::find(sections.begin(), sections.end(), section) != sections.end();
   };
-  if (want("model")) tools::model_section(context, model_options, model_resolution, json);
+  if (want("model"))
+    tools::model_section(context, model_options, model_plane_fill, model_resolution, json);
   if (want("accuracy")) tools::accuracy_section(context, accuracy, json);
   if (want("stages")) stage_section(context, resolutions, iterations, json);
   if (want("filters")) filter_section(context, filter_resolution, iterations, skip_fbs, json);

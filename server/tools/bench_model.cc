@@ -124,8 +124,10 @@ double predicted_xavier_ms(const gpu::CommandLog& log) {
   return predicted_ms(log.totals(""), kProfiles[0]);
 }
 
-void model_section(gpu::Context& context, depth::DepthOptions options, int resolution, bool json) {
+void model_section(gpu::Context& context, depth::DepthOptions options, double plane_fill,
+                   int resolution, bool json) {
   stitch::StitchOptions stitch_options;
+  stitch_options.plane_fill = plane_fill;
   if (resolution > 0) {
     options.matching_width = options.matching_height = resolution;
     stitch_options.panorama_width = 2 * resolution;

@@ -7,13 +7,15 @@
 
 namespace omnisweep::tools {
 
-// Runs frames of the depth estimator (with `options`) and the stitcher at their defaults (or with
-// matching `resolution` and a panorama of 2 x `resolution` x `resolution`), records what they
-// submit (gpu::CommandLog) and prints, per stage and for the frame, dispatches, barriers, host
-// round trips, bound bytes and the predicted time on named devices.
 // The frame's predicted time on the Jetson AGX Xavier (the paper's device) from a log of it.
 double predicted_xavier_ms(const gpu::CommandLog& log);
 
-void model_section(gpu::Context& context, depth::DepthOptions options, int resolution, bool json);
+// Runs frames of the depth estimator (with `options`) and the stitcher at their defaults (with
+// the plane fill `plane_fill`, StitchOptions::plane_fill), or with matching `resolution` and a
+// panorama of 2 x `resolution` x `resolution`; records what they submit (gpu::CommandLog) and
+// prints, per stage and for the frame, dispatches, barriers, host round trips, bound bytes and
+// the predicted time on named devices.
+void model_section(gpu::Context& context, depth::DepthOptions options, double plane_fill,
+                   int resolution, bool json);
 
 }  // namespace omnisweep::tools

@@ -25,6 +25,12 @@ std::string joined_names(const Table& table) {
 // variant's own flag overrides the method's setting of it.
 inline void add_matching_cost_flags(CLI::App& app, depth::DepthOptions& options) {
   const std::string methods = joined_names(depth::kMethods);
+  std::string stands_for;
+  for (const depth::Method& method : depth::kMethods) {
+    const std::string flags = depth::method_flags(method);
+    stands_for += std::string(stands_for.empty() ? "" : "; ") + std::string(method.name) + ": " +
+                  (flags.empty() ? "ALGORITHM.md, the default" : flags);
+  }
   app.add_option_function<std::string>(
       "--method",
       [&options, methods](const std::string& name) {
@@ -32,9 +38,8 @@ inline void add_matching_cost_flags(CLI::App& app, depth::DepthOptions& options)
           throw CLI::ValidationError("--method",
                                      "unknown method '" + name + "' (one of " + methods + ")");
       },
-      "Matching variants at once: paper (the default, ALGORITHM.md) or recommended "
-      "(--correct-photometry --match-cameras 2 --confident-sigma-s 5); the variants' own flags "
-      "override it (docs/accuracy.md)");
+      "Matching variants at once (" + stands_for +
+          "); a variant's own flag overrides it (docs/accuracy.md)");
   const std::string names = joined_names(depth::kMatchingCostNames);
   app.add_option_function<std::string>(
       "--cost",

@@ -67,5 +67,13 @@ TEST(DepthFlagsTest, AnUnknownMethodIsNamedWithTheChoices) {
   EXPECT_EQ(options.match_cameras, 1);
 }
 
+TEST(DepthFlagsTest, AMethodsFlagsComeFromItsTable) {
+  EXPECT_EQ(depth::method_flags(depth::kMethods[0]), "");
+  EXPECT_EQ(depth::method_flags(depth::kMethods[1]),
+            "--correct-photometry --match-cameras 2 --confident-sigma-s 5");
+  const depth::Method ratio{"r", depth::MatchingCost::kRatio, false, 2, 0.0};
+  EXPECT_EQ(depth::method_flags(ratio), "--cost ratio --match-cameras 2");
+}
+
 }  // namespace
 }  // namespace omnisweep::tools
