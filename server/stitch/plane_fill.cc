@@ -70,23 +70,23 @@ bool to_fill(const FillPush& p, const float* distance, const float* confidence, 
   return distance[i] > 0.0f && confidence[i] < p.fill_below;
 }
 
-// The cell of kCell x kCell pixels from (x0, y0) into `out` (plane_fill.comp's main, step for
-// step).
-void fill_cell(const FillPush& p, const float* table, const float* distance,
-               const float* confidence, const std::uint8_t* rgb, int x0, int y0, float* out) {
+// The plane of the cell of kCell x kCell pixels from (x0, y0): (a, b), b = 0 for none
+// (plane_fit.comp's main, step for step).
+std::array<float, 4> fit_cell(const FillPush& p, const float* table, const float* distance,
+                              const float* confidence, const std::uint8_t* rgb, int x0, int y0) {
   const int w = int(p.width), h = int(p.height);
   float colour_sum[3] = {};
   int targets = 0;
   for (int y = y0; y < std::min(y0 + kCell, h); ++y) {
     for (int x = x0; x < std::min(x0 + kCell, w); ++x) {
       const std::size_t i = std::size_t(y) * w + x;
-      out[i] = distance[i];
       if (!to_fill(p, distance, confidence, i)) continue;
       for (int c = 0; c < 3; ++c) colour_sum[c] += float(rgb[3 * i + c]);
       ++targets;
     }
   }
-  if (targets == 0) return;
+  constexpr std::array<float, 4> kNone = {0.0f, 0.0f, 0.0f, 0.0f};
+  if (targets == 0) return kNone;
   float ci[3];
   for (int c = 0; c < 3; ++c) ci[c] = colour_sum[c] / float(targets);
   const Ray r0 = ray(p, table, x0, y0);
@@ -118,7 +118,7 @@ void fill_cell(const FillPush& p, const float* table, const float* distance,
       wsum += wt;
     }
   }
-  if (!(wsum > 1e-6f)) return;
+  if (!(wsum > 1e-6f)) return kNone;
   for (int r = 0; r < 3; ++r) m[r][r] += p.lambda * wsum;
   float l[4][4] = {}, z[4] = {}, s[4] = {};  // l[c][r]: L's row r, column c
   for (int r = 0; r < 4; ++r) {
@@ -126,7 +126,7 @@ void fill_cell(const FillPush& p, const float* table, const float* distance,
       float t = m[c][r];
       for (int k = 0; k < c; ++k) t -= l[k][r] * l[k][c];
       if (c == r) {
-        if (!(t > 0.0f)) return;
+        if (!(t > 0.0f)) return kNone;
         l[r][r] = std::sqrt(t);
       } else {
         l[c][r] = t / l[c][c];
@@ -141,16 +141,45 @@ void fill_cell(const FillPush& p, const float* table, const float* distance,
     for (int k = r + 1; k < 4; ++k) t -= l[r][k] * s[k];
     s[r] = t / l[r][r];
   }
-  for (int y = y0; y < std::min(y0 + kCell, h); ++y) {
-    for (int x = x0; x < std::min(x0 + kCell, w); ++x) {
-      const std::size_t i = std::size_t(y) * w + x;
-      if (!to_fill(p, distance, confidence, i)) continue;
-      const Ray ri = ray(p, table, x, y);
-      const float v =
-          s[3] + (s[0] * (ri[0] - r0[0]) + s[1] * (ri[1] - r0[1]) + s[2] * (ri[2] - r0[2]));
-      if (v > 0.0f && !std::isinf(v)) out[i] = 1.0f / std::clamp(v, p.inv_d_max, p.inv_d_min);
+  if (!(s[3] > 0.0f) || std::isinf(s[3])) return kNone;
+  return {s[0], s[1], s[2], s[3]};
+}
+
+// Pixel (x, y) from the cells' planes (plane_fill.comp's main, step for step).
+float fill_pixel(const FillPush& p, const float* table, const float* distance,
+                 const float* confidence, const std::vector<std::array<float, 4>>& planes, int x,
+                 int y) {
+  const int w = int(p.width), h = int(p.height);
+  const std::size_t i = std::size_t(y) * w + x;
+  const float d = distance[i];
+  if (!to_fill(p, distance, confidence, i)) return d;
+  const int cells_x = (w + kCell - 1) / kCell, cells_y = (h + kCell - 1) / kCell;
+  const float fx = (float(x) - 0.5f * float(kCell - 1)) / float(kCell);
+  const float fy = (float(y) - 0.5f * float(kCell - 1)) / float(kCell);
+  const int c0x = int(std::floor(fx)), c0y = int(std::floor(fy));
+  const float tx = fx - float(c0x), ty = fy - float(c0y);
+  const Ray rp = ray(p, table, x, y);
+  float v = 0.0f, wsum = 0.0f;
+  for (int dy = 0; dy < 2; ++dy) {
+    const int cy = std::clamp(c0y + dy, 0, cells_y - 1);
+    const float wy = dy == 0 ? 1.0f - ty : ty;
+    for (int dx = 0; dx < 2; ++dx) {
+      int cx = c0x + dx;
+      cx = cx < 0 ? cx + cells_x : (cx >= cells_x ? cx - cells_x : cx);
+      const float weight = wy * (dx == 0 ? 1.0f - tx : tx);
+      const std::array<float, 4>& s = planes[std::size_t(cy) * cells_x + cx];
+      if (!(s[3] > 0.0f) || !(weight > 0.0f)) continue;
+      const Ray r0 = ray(p, table, cx * kCell, cy * kCell);
+      v += weight *
+           (s[3] + (s[0] * (rp[0] - r0[0]) + s[1] * (rp[1] - r0[1]) + s[2] * (rp[2] - r0[2])));
+      wsum += weight;
     }
   }
+  if (!(wsum > 0.0f)) return d;
+  const float alpha = 1.0f - confidence[i] / p.fill_below;
+  v = alpha * (v / wsum) + (1.0f - alpha) * (1.0f / d);
+  if (!(v > 0.0f) || std::isinf(v)) return d;
+  return 1.0f / std::clamp(v, p.inv_d_max, p.inv_d_min);
 }
 
 }  // namespace
@@ -172,10 +201,17 @@ FloatImage plane_fill_cpu(const Rgb8Image& rgb, const FloatImage& distance,
   const FillPush p =
       push_for(distance.width(), distance.height(), fill_below, min_distance, max_distance);
   const std::vector<float> table = ray_table(distance.width(), distance.height());
-  FloatImage out(distance.width(), distance.height());
-  for (int y = 0; y < distance.height(); y += kCell)
-    for (int x = 0; x < distance.width(); x += kCell)
-      fill_cell(p, table.data(), distance.data(), confidence.data(), rgb.data(), x, y, out.data());
+  const int w = distance.width(), h = distance.height();
+  std::vector<std::array<float, 4>> planes;
+  for (int y = 0; y < h; y += kCell)
+    for (int x = 0; x < w; x += kCell)
+      planes.push_back(
+          fit_cell(p, table.data(), distance.data(), confidence.data(), rgb.data(), x, y));
+  FloatImage out(w, h);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x)
+      out.data()[std::size_t(y) * w + x] =
+          fill_pixel(p, table.data(), distance.data(), confidence.data(), planes, x, y);
   return out;
 }
 
@@ -187,8 +223,12 @@ PlaneFill::PlaneFill(gpu::Context& context, int width, int height, double fill_b
       min_distance_(min_distance),
       max_distance_(max_distance),
       table_(context, ray_table(width, height).size() * 4),
-      kernel_(context, gpu::Shader::kPlaneFill,
-              {.bindings = {1, 1, 1, 1, 1}, .push_constant_bytes = sizeof(FillPush)}) {
+      planes_(context,
+              std::uint64_t((width + kCell - 1) / kCell) * ((height + kCell - 1) / kCell) * 16),
+      fit_(context, gpu::Shader::kPlaneFit,
+           {.bindings = {1, 1, 1, 1, 1}, .push_constant_bytes = sizeof(FillPush)}),
+      fill_(context, gpu::Shader::kPlaneFill,
+            {.bindings = {1, 1, 1, 1, 1}, .push_constant_bytes = sizeof(FillPush)}) {
   table_.upload(std::span<const float>(ray_table(width, height)));
 }
 
@@ -198,10 +238,13 @@ void PlaneFill::record(gpu::Sequence& seq, const gpu::Buffer& color, const gpu::
   if (color.size() < bytes || distance.size() < bytes || confidence.size() < bytes ||
       out.size() < bytes)
     throw std::invalid_argument("plane fill: the panorama buffers are smaller than its size");
-  seq.dispatch(kernel_, {color, distance, confidence, table_, out},
-               push_for(width_, height_, fill_below_, min_distance_, max_distance_),
-               kernel_.groups_for(std::uint32_t((width_ + kCell - 1) / kCell),
-                                  std::uint32_t((height_ + kCell - 1) / kCell)));
+  const FillPush push = push_for(width_, height_, fill_below_, min_distance_, max_distance_);
+  seq.dispatch(fit_, {color, distance, confidence, table_, planes_}, push,
+               fit_.groups_for(std::uint32_t((width_ + kCell - 1) / kCell),
+                               std::uint32_t((height_ + kCell - 1) / kCell)));
+  seq.barrier();
+  seq.dispatch(fill_, {distance, confidence, table_, planes_, out}, push,
+               fill_.groups_for(std::uint32_t(width_), std::uint32_t(height_)));
 }
 
 }  // namespace omnisweep::stitch

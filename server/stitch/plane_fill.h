@@ -52,8 +52,10 @@ class PlaneFill {
  private:
   int width_, height_;
   double fill_below_, min_distance_, max_distance_;
-  gpu::Buffer table_;  // the rays and spatial weights (plane_fill.comp)
-  gpu::Kernel kernel_;
+  gpu::Buffer table_;   // the rays and spatial weights (plane_fill.glsl)
+  gpu::Buffer planes_;  // per cell of 4 x 4 pixels, (a, b) of its plane
+  gpu::Kernel fit_;     // plane_fit.comp
+  gpu::Kernel fill_;    // plane_fill.comp
 };
 
 }  // namespace omnisweep::stitch

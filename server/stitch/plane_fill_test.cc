@@ -1,6 +1,6 @@
-// The plane fill: the GPU kernel against the plain C++ version, and what it promises: a floor
-// whose unconfident distances were pulled far comes back onto its plane, confident pixels and
-// pixels of another colour are left alone, and a bad setting is named.
+// The plane fill: the GPU kernels against the plain C++ version, and what it promises: a floor
+// whose unconfident distances were pulled far comes back onto its plane, a pixel halfway to the
+// threshold gets half of it, confident pixels are left alone, and a bad setting is named.
 #include "server/stitch/plane_fill.h"
 
 #include <gtest/gtest.h>
@@ -20,6 +20,7 @@ using PlaneFillTest = omnisweep::testing::ValidatedGpuTest;
 
 constexpr int kW = 256, kH = 128;
 constexpr double kMinDistance = 0.55, kMaxDistance = 100.0;
+constexpr std::size_t kHalfway = std::size_t(kH * 13 / 16) * kW + 80;  // a band pixel
 
 struct Scene {
   FloatImage truth;  // inverse distance
@@ -31,10 +32,10 @@ struct Scene {
 
 // A floor 1.5 m below the viewpoint (the lower half, a dark colour) and a wall at 4 m all around
 // above it (a light colour). Confidences are 0.3-1 except in a band of the floor, where they are
-// 0-0.04 and the distance was pulled out to the wall's. A hole (no distance) at one pixel.
+// 0-0.002 and the distance was pulled out to the wall's. A hole (no distance) at one pixel.
 Scene make_scene() {
   std::mt19937 rng(7);
-  std::uniform_real_distribution<float> confident(0.3f, 1.0f), unconfident(0.0f, 0.04f);
+  std::uniform_real_distribution<float> confident(0.3f, 1.0f), unconfident(0.0f, 0.002f);
   std::normal_distribution<float> noise(0.0f, 0.002f);
   std::uniform_int_distribution<int> jitter(-2, 2);
   Scene s{FloatImage(kW, kH), FloatImage(kW, kH), FloatImage(kW, kH), Rgb8Image(kW, kH),
@@ -55,6 +56,7 @@ Scene make_scene() {
     }
   }
   s.distance.data()[std::size_t(kH - 10) * kW + 60] = 0.0f;
+  s.confidence.data()[kHalfway] = 0.025f;  // halfway to the tests' threshold of 0.05
   return s;
 }
 
@@ -96,7 +98,7 @@ TEST_F(PlaneFillTest, PutsAPulledFloorBackOnItsPlane) {
   double before = 0, after = 0;
   int band = 0;
   for (std::size_t i = 0; i < out.size(); ++i) {
-    if (!s.band[i] || s.distance.data()[i] == 0) continue;
+    if (!s.band[i] || s.distance.data()[i] == 0 || i == kHalfway) continue;
     before += std::abs(inverse(s.distance.data()[i]) - s.truth.data()[i]);
     after += std::abs(inverse(out.data()[i]) - s.truth.data()[i]);
     ++band;
@@ -108,6 +110,10 @@ TEST_F(PlaneFillTest, PutsAPulledFloorBackOnItsPlane) {
   for (std::size_t i = 0; i < out.size(); ++i) {
     if (!s.band[i]) ASSERT_EQ(out.data()[i], s.distance.data()[i]) << "pixel " << i;
   }
+  ASSERT_TRUE(s.band[kHalfway]);
+  const double pulled = inverse(s.distance.data()[kHalfway]), truth = s.truth.data()[kHalfway];
+  EXPECT_NEAR(inverse(out.data()[kHalfway]), 0.5 * (pulled + truth), 0.03)
+      << "pulled " << pulled << ", plane " << truth;
   // Below no confidence (0): nothing changes.
   const FloatImage none = run_gpu(context(), s, 0.0);
   for (std::size_t i = 0; i < none.size(); ++i)

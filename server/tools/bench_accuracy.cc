@@ -205,7 +205,7 @@ void accuracy_section(gpu::Context& context, const AccuracySectionOptions& optio
         "wall time per frame here; Xavier: the cost model's GPU time, without host work; "
         "MAE@80: the MAE of the 80 %% most confident pixels; AUSE: the area between the "
         "confidence's sparsification curve and the oracle's)\n");
-    std::printf("%-40s %-32s %8s %8s %7s %7s %8s %7s %8s %8s %8s %8s\n", "variant", "data", "MAE",
+    std::printf("%-57s %-32s %8s %8s %7s %7s %8s %7s %8s %8s %8s %8s\n", "variant", "data", "MAE",
                 "RMSE", ">0.1 %", ">0.4 %", "PSNR dB", "SSIM", "MAE@80", "AUSE", "ms", "Xavier");
   }
   for (const AccuracySet& set : sets) {
@@ -221,7 +221,7 @@ void accuracy_section(gpu::Context& context, const AccuracySectionOptions& optio
             r.mean.bad_0_1, r.mean.bad_0_4, r.mean.psnr, r.mean.ssim, r.mae_at_80, r.ause, r.ms,
             r.xavier_ms);
       } else {
-        std::printf("%-40s %-32s %8.4f %8.4f %7.2f %7.2f %8.2f %7.3f %8.4f %8.4f %8.0f %8.2f\n",
+        std::printf("%-57s %-32s %8.4f %8.4f %7.2f %7.2f %8.2f %7.3f %8.4f %8.4f %8.0f %8.2f\n",
                     variant.name, set.name.c_str(), r.mean.mae, r.mean.rmse, 100 * r.mean.bad_0_1,
                     100 * r.mean.bad_0_4, r.mean.psnr, r.mean.ssim, r.mae_at_80, r.ause, r.ms,
                     r.xavier_ms);
