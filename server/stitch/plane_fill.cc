@@ -52,6 +52,14 @@ std::vector<float> ray_table(int width, int height) {
   return table;
 }
 
+// The table on the GPU, computed once.
+gpu::Buffer table_buffer(gpu::Context& context, int width, int height) {
+  const std::vector<float> table = ray_table(width, height);
+  gpu::Buffer buffer(context, table.size() * 4);
+  buffer.upload(std::span<const float>(table));
+  return buffer;
+}
+
 using Ray = std::array<float, 3>;
 
 Ray ray(const FillPush& p, const float* table, int x, int y) {
@@ -222,15 +230,13 @@ PlaneFill::PlaneFill(gpu::Context& context, int width, int height, double fill_b
       fill_below_(fill_below),
       min_distance_(min_distance),
       max_distance_(max_distance),
-      table_(context, ray_table(width, height).size() * 4),
+      table_(table_buffer(context, width, height)),
       planes_(context,
               std::uint64_t((width + kCell - 1) / kCell) * ((height + kCell - 1) / kCell) * 16),
       fit_(context, gpu::Shader::kPlaneFit,
            {.bindings = {1, 1, 1, 1, 1}, .push_constant_bytes = sizeof(FillPush)}),
       fill_(context, gpu::Shader::kPlaneFill,
-            {.bindings = {1, 1, 1, 1, 1}, .push_constant_bytes = sizeof(FillPush)}) {
-  table_.upload(std::span<const float>(ray_table(width, height)));
-}
+            {.bindings = {1, 1, 1, 1, 1}, .push_constant_bytes = sizeof(FillPush)}) {}
 
 void PlaneFill::record(gpu::Sequence& seq, const gpu::Buffer& color, const gpu::Buffer& distance,
                        const gpu::Buffer& confidence, gpu::Buffer& out) const {
