@@ -14,6 +14,8 @@ struct FillPush {
   std::uint32_t width, height;
   std::int32_t step, taps;
   float fill_below, support, sigma_c, lambda, inv_d_min, inv_d_max;
+  std::int32_t refits;
+  float tau;
 };
 
 FillPush push_for(int width, int height, double fill_below, double min_distance,
@@ -28,7 +30,9 @@ FillPush push_for(int width, int height, double fill_below, double min_distance,
           float(p.sigma_c),
           float(p.lambda),
           float(1.0 / min_distance),
-          float(1.0 / max_distance)};
+          float(1.0 / max_distance),
+          p.refits,
+          float(p.tau)};
 }
 
 // plane_fill.comp's table: per column (cos, sin) of the longitude, per row (sin, cos) of the
@@ -78,6 +82,72 @@ bool to_fill(const FillPush& p, const float* distance, const float* confidence, 
   return distance[i] > 0.0f && confidence[i] < p.fill_below;
 }
 
+// The weighted least-squares plane around (x0, y0) (its ray r0) for the colour ci into s; with
+// `robust`, each tap's weight also falls with its distance from `prior`'s plane (plane_fit.comp's
+// fit, step for step). False where there is no support or the system is singular.
+bool fit(const FillPush& p, const float* table, const float* distance, const float* confidence,
+         const std::uint8_t* rgb, const float* ci, int x0, int y0, const Ray& r0,
+         const std::array<float, 4>& prior, bool robust, std::array<float, 4>& s) {
+  const int w = int(p.width), h = int(p.height);
+  float m[4][4] = {}, rhs[4] = {}, wsum = 0.0f;  // m[c][r], as the kernel's mat4
+  const float colour_scale = 1.0f / (2.0f * p.sigma_c * p.sigma_c);
+  const float residual_scale = robust ? 1.0f / (2.0f * p.tau * p.tau) : 0.0f;
+  for (int ty = -p.taps; ty <= p.taps; ++ty) {
+    const int y = y0 + ty * p.step;
+    if (y < 0 || y >= h) continue;
+    const float wy = spatial(p, table, ty);
+    for (int tx = -p.taps; tx <= p.taps; ++tx) {
+      int x = x0 + tx * p.step;
+      x = x < 0 ? x + w : (x >= w ? x - w : x);
+      const std::size_t j = std::size_t(y) * w + x;
+      const float dj = distance[j], cj = confidence[j];
+      if (!(dj > 0.0f) || cj < p.support) continue;
+      float dc2 = 0.0f;
+      for (int c = 0; c < 3; ++c) {
+        const float dc = ci[c] - float(rgb[3 * j + c]);
+        dc2 += dc * dc;
+      }
+      const Ray rj = ray(p, table, x, y);
+      const float u[4] = {rj[0] - r0[0], rj[1] - r0[1], rj[2] - r0[2], 1.0f};
+      const float res =
+          1.0f / dj - (prior[0] * u[0] + prior[1] * u[1] + prior[2] * u[2] + prior[3] * u[3]);
+      const float wt = cj * std::exp(-dc2 * colour_scale - res * res * residual_scale) *
+                       (wy * spatial(p, table, tx));
+      float wu[4];
+      for (int k = 0; k < 4; ++k) wu[k] = wt * u[k];
+      for (int c = 0; c < 4; ++c)
+        for (int r = 0; r < 4; ++r) m[c][r] += u[r] * wu[c];
+      for (int r = 0; r < 4; ++r) rhs[r] += wu[r] * (1.0f / dj);
+      wsum += wt;
+    }
+  }
+  if (!(wsum > 1e-6f)) return false;
+  for (int r = 0; r < 3; ++r) m[r][r] += p.lambda * wsum;
+  float l[4][4] = {}, z[4] = {};  // l[c][r]: L's row r, column c
+  s = {};
+  for (int r = 0; r < 4; ++r) {
+    for (int c = 0; c <= r; ++c) {
+      float t = m[c][r];
+      for (int k = 0; k < c; ++k) t -= l[k][r] * l[k][c];
+      if (c == r) {
+        if (!(t > 0.0f)) return false;
+        l[r][r] = std::sqrt(t);
+      } else {
+        l[c][r] = t / l[c][c];
+      }
+    }
+    float t = rhs[r];
+    for (int k = 0; k < r; ++k) t -= l[k][r] * z[k];
+    z[r] = t / l[r][r];
+  }
+  for (int r = 3; r >= 0; --r) {
+    float t = z[r];
+    for (int k = r + 1; k < 4; ++k) t -= l[r][k] * s[k];
+    s[r] = t / l[r][r];
+  }
+  return s[3] > 0.0f && !std::isinf(s[3]);
+}
+
 // The plane of the cell of kCell x kCell pixels from (x0, y0): (a, b), b = 0 for none
 // (plane_fit.comp's main, step for step).
 std::array<float, 4> fit_cell(const FillPush& p, const float* table, const float* distance,
@@ -98,59 +168,14 @@ std::array<float, 4> fit_cell(const FillPush& p, const float* table, const float
   float ci[3];
   for (int c = 0; c < 3; ++c) ci[c] = colour_sum[c] / float(targets);
   const Ray r0 = ray(p, table, x0, y0);
-  float m[4][4] = {}, rhs[4] = {}, wsum = 0.0f;  // m[c][r], as the kernel's mat4
-  const float colour_scale = 1.0f / (2.0f * p.sigma_c * p.sigma_c);
-  for (int ty = -p.taps; ty <= p.taps; ++ty) {
-    const int y = y0 + ty * p.step;
-    if (y < 0 || y >= h) continue;
-    const float wy = spatial(p, table, ty);
-    for (int tx = -p.taps; tx <= p.taps; ++tx) {
-      int x = x0 + tx * p.step;
-      x = x < 0 ? x + w : (x >= w ? x - w : x);
-      const std::size_t j = std::size_t(y) * w + x;
-      const float dj = distance[j], cj = confidence[j];
-      if (!(dj > 0.0f) || cj < p.support) continue;
-      float dc2 = 0.0f;
-      for (int c = 0; c < 3; ++c) {
-        const float dc = ci[c] - float(rgb[3 * j + c]);
-        dc2 += dc * dc;
-      }
-      const float wt = cj * std::exp(-dc2 * colour_scale) * (wy * spatial(p, table, tx));
-      const Ray rj = ray(p, table, x, y);
-      const float u[4] = {rj[0] - r0[0], rj[1] - r0[1], rj[2] - r0[2], 1.0f};
-      float wu[4];
-      for (int k = 0; k < 4; ++k) wu[k] = wt * u[k];
-      for (int c = 0; c < 4; ++c)
-        for (int r = 0; r < 4; ++r) m[c][r] += u[r] * wu[c];
-      for (int r = 0; r < 4; ++r) rhs[r] += wu[r] * (1.0f / dj);
-      wsum += wt;
-    }
+  std::array<float, 4> s;
+  if (!fit(p, table, distance, confidence, rgb, ci, x0, y0, r0, kNone, false, s)) return kNone;
+  for (int k = 0; k < p.refits; ++k) {
+    std::array<float, 4> next;
+    if (!fit(p, table, distance, confidence, rgb, ci, x0, y0, r0, s, true, next)) break;
+    s = next;
   }
-  if (!(wsum > 1e-6f)) return kNone;
-  for (int r = 0; r < 3; ++r) m[r][r] += p.lambda * wsum;
-  float l[4][4] = {}, z[4] = {}, s[4] = {};  // l[c][r]: L's row r, column c
-  for (int r = 0; r < 4; ++r) {
-    for (int c = 0; c <= r; ++c) {
-      float t = m[c][r];
-      for (int k = 0; k < c; ++k) t -= l[k][r] * l[k][c];
-      if (c == r) {
-        if (!(t > 0.0f)) return kNone;
-        l[r][r] = std::sqrt(t);
-      } else {
-        l[c][r] = t / l[c][c];
-      }
-    }
-    float t = rhs[r];
-    for (int k = 0; k < r; ++k) t -= l[k][r] * z[k];
-    z[r] = t / l[r][r];
-  }
-  for (int r = 3; r >= 0; --r) {
-    float t = z[r];
-    for (int k = r + 1; k < 4; ++k) t -= l[r][k] * s[k];
-    s[r] = t / l[r][r];
-  }
-  if (!(s[3] > 0.0f) || std::isinf(s[3])) return kNone;
-  return {s[0], s[1], s[2], s[3]};
+  return s;
 }
 
 // Pixel (x, y) from the cells' planes (plane_fill.comp's main, step for step).

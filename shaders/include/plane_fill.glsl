@@ -14,6 +14,8 @@ layout(push_constant) uniform Push {
   float lambda;
   float inv_d_min;
   float inv_d_max;
+  int refits;
+  float tau;
 } push;
 
 // Pixels per side of the cells that get one plane each.
