@@ -66,19 +66,23 @@ constexpr Variant kVariants[] = {
      depth::MatchingCost::kAbsoluteDifference, true, 2, 5, 0.05},
 };
 
-AccuracySet synthetic_set(const AccuracySectionOptions& options, bool lenses, int width,
-                          int height) {
+// The synthetic rig's frames, through realistic lenses or not, with Gaussian sensor noise of
+// `noise` 8-bit levels (new every frame) or none. Its renders are otherwise noise-free to the
+// last level, which no camera is: the sets with noise show what a variant's gain on the clean
+// frames owes to texture below one level (docs/accuracy.md, "Sensor noise").
+AccuracySet synthetic_set(const AccuracySectionOptions& options, bool lenses, double noise,
+                          int width, int height) {
   synthetic::SyntheticRigOptions rig_options;
   // Small matching resolutions (a smoke run) render small images too.
   if (options.resolution > 0) rig_options.image_size = std::min(1216, 2 * options.resolution);
   if (lenses) rig_options.photometric = synthetic::PhotometricOptions::realistic();
+  rig_options.photometric.noise_sigma = noise;
   const synthetic::SyntheticRig rig(rig_options);
-  AccuracySet set{lenses ? "synthetic, realistic lenses" : "synthetic",
-                  rig.rig(),
-                  {},
-                  {2, 3},
-                  rig.viewpoint(),
-                  {}};
+  std::string name = lenses ? "synthetic, realistic lenses" : "synthetic";
+  if (noise > 0)
+    name = (lenses ? "synthetic, lenses" : "synthetic") + std::string(", noise ") +
+           std::to_string(int(noise));
+  AccuracySet set{name, rig.rig(), {}, {2, 3}, rig.viewpoint(), {}};
   for (auto& mask : rig.masks()) set.masks.emplace_back(std::move(mask));
   for (int i = 0; i < options.frames; ++i) {
     synthetic::SyntheticFrame frame = rig.render(i, width, height);
@@ -148,7 +152,8 @@ Row run(gpu::Context& context, const AccuracySet& set, const Variant& variant,
                              .viewpoint = set.viewpoint,
                              .min_distance = depth_options.min_distance,
                              .max_distance = depth_options.max_distance,
-                             .plane_fill = variant.plane_fill});
+                             .plane_fill = variant.plane_fill,
+                             .temporal = std::nullopt});
   pipeline::GpuFrame gpu_frame(context, estimator, stitcher);
   std::optional<depth::PhotometricCorrector> photometry;
   if (variant.correct_photometry) photometry.emplace(matching_rig, masks);
@@ -194,8 +199,10 @@ void accuracy_section(gpu::Context& context, const AccuracySectionOptions& optio
   const int width = options.resolution > 0 ? 2 * options.resolution : 2048;
   const int height = options.resolution > 0 ? options.resolution : 1024;
   std::vector<AccuracySet> sets;
-  sets.push_back(synthetic_set(options, false, width, height));
-  sets.push_back(synthetic_set(options, true, width, height));
+  for (const double noise : {0.0, 1.0}) {
+    sets.push_back(synthetic_set(options, false, noise, width, height));
+    sets.push_back(synthetic_set(options, true, noise, width, height));
+  }
   if (!options.dev_set.empty()) {
     if (auto set = dataset_set(options.dev_set, width, height)) sets.push_back(std::move(*set));
   }

@@ -15,9 +15,10 @@ struct AccuracySectionOptions {
 };
 
 // Every variant (the paper's cost, the robust costs, with and without the photometric
-// correction) on the synthetic rig's frames without and with realistic lenses, and on the
-// development set: MAE, RMSE, > 0.1, > 0.4, colour PSNR and SSIM, ms per frame here, and the
-// frame's predicted ms on a Jetson AGX Xavier from the cost model.
+// correction) on the synthetic rig's frames without and with realistic lenses, each without and
+// with a sensor noise of one level, and on the development set: MAE, RMSE, > 0.1, > 0.4, colour
+// PSNR and SSIM, ms per frame here, and the frame's predicted ms on a Jetson AGX Xavier from the
+// cost model.
 void accuracy_section(gpu::Context& context, const AccuracySectionOptions& options, bool json);
 
 }  // namespace omnisweep::tools
