@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cstdio>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "omnisweep/dataset/dataset.h"
@@ -79,9 +80,11 @@ AccuracySet synthetic_set(const AccuracySectionOptions& options, bool lenses, do
   rig_options.photometric.noise_sigma = noise;
   const synthetic::SyntheticRig rig(rig_options);
   std::string name = lenses ? "synthetic, realistic lenses" : "synthetic";
-  if (noise > 0)
-    name = (lenses ? "synthetic, lenses" : "synthetic") + std::string(", noise ") +
-           std::to_string(int(noise));
+  if (noise > 0) {
+    char level[32];
+    std::snprintf(level, sizeof level, ", noise %g", noise);
+    name = (lenses ? "synthetic, lenses" : "synthetic") + std::string(level);
+  }
   AccuracySet set{name, rig.rig(), {}, {2, 3}, rig.viewpoint(), {}};
   for (auto& mask : rig.masks()) set.masks.emplace_back(std::move(mask));
   for (int i = 0; i < options.frames; ++i) {
