@@ -79,11 +79,12 @@ AccuracySet synthetic_set(const AccuracySectionOptions& options, bool lenses, do
   if (lenses) rig_options.photometric = synthetic::PhotometricOptions::realistic();
   rig_options.photometric.noise_sigma = noise;
   const synthetic::SyntheticRig rig(rig_options);
-  std::string name = lenses ? "synthetic, realistic lenses" : "synthetic";
+  std::string name = "synthetic";
+  if (lenses) name += noise > 0 ? ", lenses" : ", realistic lenses";
   if (noise > 0) {
     char level[32];
     std::snprintf(level, sizeof level, ", noise %g", noise);
-    name = (lenses ? "synthetic, lenses" : "synthetic") + std::string(level);
+    name += level;
   }
   AccuracySet set{name, rig.rig(), {}, {2, 3}, rig.viewpoint(), {}};
   for (auto& mask : rig.masks()) set.masks.emplace_back(std::move(mask));
