@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "omnisweep/dataset/dataset.h"
@@ -216,14 +217,19 @@ void accuracy_section(gpu::Context& context, const AccuracySectionOptions& optio
   if (!options.dev_set.empty()) {
     if (auto set = dataset_set(options.dev_set, width, height)) sets.push_back(std::move(*set));
   }
+  // The variant column is as wide as the longest name, so a longer name does not shift a row.
+  int name_width = 0;
+  for (const Variant& variant : kVariants)
+    name_width = std::max(name_width, static_cast<int>(std::string_view(variant.name).size()));
   if (!json) {
     std::printf(
         "\nAccuracy of the variants (inverse distance in m^-1, means over the frames; ms: median "
         "wall time per frame here; Xavier: the cost model's GPU time, without host work; "
         "MAE@80: the MAE of the 80 %% most confident pixels; AUSE: the area between the "
         "confidence's sparsification curve and the oracle's)\n");
-    std::printf("%-68s %-32s %8s %8s %7s %7s %8s %7s %8s %8s %8s %8s\n", "variant", "data", "MAE",
-                "RMSE", ">0.1 %", ">0.4 %", "PSNR dB", "SSIM", "MAE@80", "AUSE", "ms", "Xavier");
+    std::printf("%-*s %-32s %8s %8s %7s %7s %8s %7s %8s %8s %8s %8s\n", name_width, "variant",
+                "data", "MAE", "RMSE", ">0.1 %", ">0.4 %", "PSNR dB", "SSIM", "MAE@80", "AUSE",
+                "ms", "Xavier");
   }
   for (const AccuracySet& set : sets) {
     for (const Variant& variant : kVariants) {
@@ -238,10 +244,10 @@ void accuracy_section(gpu::Context& context, const AccuracySectionOptions& optio
             r.mean.bad_0_1, r.mean.bad_0_4, r.mean.psnr, r.mean.ssim, r.mae_at_80, r.ause, r.ms,
             r.xavier_ms);
       } else {
-        std::printf("%-68s %-32s %8.4f %8.4f %7.2f %7.2f %8.2f %7.3f %8.4f %8.4f %8.0f %8.2f\n",
-                    variant.name, set.name.c_str(), r.mean.mae, r.mean.rmse, 100 * r.mean.bad_0_1,
-                    100 * r.mean.bad_0_4, r.mean.psnr, r.mean.ssim, r.mae_at_80, r.ause, r.ms,
-                    r.xavier_ms);
+        std::printf("%-*s %-32s %8.4f %8.4f %7.2f %7.2f %8.2f %7.3f %8.4f %8.4f %8.0f %8.2f\n",
+                    name_width, variant.name, set.name.c_str(), r.mean.mae, r.mean.rmse,
+                    100 * r.mean.bad_0_1, 100 * r.mean.bad_0_4, r.mean.psnr, r.mean.ssim,
+                    r.mae_at_80, r.ause, r.ms, r.xavier_ms);
       }
       std::fflush(stdout);
     }
