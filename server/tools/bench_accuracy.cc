@@ -15,6 +15,7 @@
 #include "server/depth/photometric_model.h"
 #include "server/pipeline/gpu_frame.h"
 #include "server/stitch/panorama_metrics.h"
+#include "server/stitch/region_planes.h"
 #include "server/stitch/stitcher.h"
 #include "server/synthetic/synthetic_rig.h"
 #include "server/tools/bench_model.h"
@@ -45,6 +46,7 @@ struct Variant {
   double confident_sigma_s = 0;  // DepthOptions::confident_sigma_s
   double plane_fill = 0;         // StitchOptions::plane_fill
   double sigma_s = 0;            // DepthOptions::sigma_s; 0: the paper's
+  bool region_planes = false;    // stitch/region_planes.h, on the host after the GPU frame
 };
 
 constexpr Variant kVariants[] = {
@@ -71,6 +73,9 @@ constexpr Variant kVariants[] = {
     // (docs/accuracy.md, "Where the error sits with noise").
     {"ad + correction, 2 cameras, confident 5, plane fill 0.05, sigma_s 20",
      depth::MatchingCost::kAbsoluteDifference, true, 2, 5, 0.05, 20},
+    // The unconfident regions' planes from their rims (docs/accuracy.md, "Region planes").
+    {"ad + correction, 2 cameras, confident 5, plane fill 0.05, sigma_s 20, region planes",
+     depth::MatchingCost::kAbsoluteDifference, true, 2, 5, 0.05, 20, true},
 };
 
 // The synthetic rig's frames, through realistic lenses or not, with Gaussian sensor noise of
@@ -180,8 +185,12 @@ Row run(gpu::Context& context, const AccuracySet& set, const Variant& variant,
     const depth::PhotometryFit* fit = photometry ? &photometry->fit(views(matching)) : nullptr;
     log.clear();
     context.set_command_log(&log);
-    const stitch::Panorama pano = gpu_frame.run(views(matching), views(color), fit);
+    stitch::Panorama pano = gpu_frame.run(views(matching), views(color), fit);
     context.set_command_log(nullptr);
+    if (variant.region_planes)
+      pano.distance = stitch::region_planes_cpu(
+          pano.distance, pano.confidence, stitch::RegionPlaneParams::for_width(width),
+          depth_options.min_distance, depth_options.max_distance);
     ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
                      .count());
     const auto m =
