@@ -306,6 +306,13 @@ FloatImage region_planes_cpu(const FloatImage& distance, const FloatImage& confi
 
   const int cells_x = (w + params.cell - 1) / params.cell;
   const int cells_y = (h + params.cell - 1) / params.cell;
+  auto cell_of = [&](std::size_t i) {
+    return (i / w / params.cell) * cells_x + (i % w) / params.cell;
+  };
+  // Each region's pixels, in one pass over the panorama.
+  std::vector<std::vector<std::size_t>> pixels(regions);
+  for (std::size_t i = 0; i < label.size(); ++i)
+    if (label[i] >= 0) pixels[label[i]].push_back(i);
   const double v_min = 1.0 / max_distance, v_max = 1.0 / min_distance;
   for (int r = 0; r < regions; ++r) {
     const std::vector<Plane> planes = find_planes(support[r], r, params);
@@ -313,8 +320,7 @@ FloatImage region_planes_cpu(const FloatImage& distance, const FloatImage& confi
     // Per cell the region touches, a bit per plane that surrounds the cell's centre ray.
     std::vector<std::uint32_t> surround(std::size_t(cells_x) * cells_y, 0);
     std::vector<char> touched(surround.size(), 0);
-    for (std::size_t i = 0; i < label.size(); ++i)
-      if (label[i] == r) touched[(i / w / params.cell) * cells_x + (i % w) / params.cell] = 1;
+    for (const std::size_t i : pixels[r]) touched[cell_of(i)] = 1;
     for (int cy = 0; cy < cells_y; ++cy) {
       for (int cx = 0; cx < cells_x; ++cx) {
         const std::size_t cell = std::size_t(cy) * cells_x + cx;
@@ -325,9 +331,8 @@ FloatImage region_planes_cpu(const FloatImage& distance, const FloatImage& confi
           if (surrounds(planes[k], ray)) surround[cell] |= 1u << k;
       }
     }
-    for (std::size_t i = 0; i < label.size(); ++i) {
-      if (label[i] != r) continue;
-      const std::uint32_t bits = surround[(i / w / params.cell) * cells_x + (i % w) / params.cell];
+    for (const std::size_t i : pixels[r]) {
+      const std::uint32_t bits = surround[cell_of(i)];
       if (!bits) continue;
       const Vec3 ray = rays.at(i);
       const double own = 1.0 / d[i];
