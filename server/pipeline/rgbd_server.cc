@@ -86,6 +86,7 @@ struct RgbdServer::Stages {
                                        .min_distance = o.depth.min_distance,
                                        .max_distance = o.depth.max_distance,
                                        .plane_fill = o.plane_fill,
+                                       .region_planes = o.region_planes,
                                        .temporal = o.temporal}),
         gpu_frame(context, estimator, stitcher),
         distance_codec(codec::make_distance_codec(codec::kQinv16Zstd)),

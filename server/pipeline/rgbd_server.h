@@ -52,6 +52,8 @@ struct ServerOptions {
   std::optional<foxglove::FoxgloveOptions> foxglove;
   // The plane fill's confidence (StitchOptions::plane_fill, stitch/plane_fill.h); 0: off.
   double plane_fill = 0.0;
+  // The region planes (StitchOptions::region_planes, stitch/region_planes.h); off by default.
+  bool region_planes = false;
   // A temporal filter on the distance (stitch/temporal_filter.h); none by default.
   std::optional<stitch::TemporalOptions> temporal;
   bool exit_on_source_end = false;  // else a stalled or ended source is reported and retried

@@ -3,9 +3,10 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <numbers>
 #include <stdexcept>
 #include <vector>
+
+#include "server/stitch/panorama_rays.h"
 
 namespace omnisweep::stitch {
 namespace {
@@ -39,16 +40,7 @@ FillPush push_for(int width, int height, double fill_below, double min_distance,
 // colatitude, then (spatial weight, 0) per tap offset -taps .. taps.
 std::vector<float> ray_table(int width, int height) {
   const PlaneFillParams p = PlaneFillParams::for_width(width);
-  std::vector<float> table;
-  table.reserve(2 * std::size_t(width + height + 2 * p.taps + 1));
-  for (int x = 0; x < width; ++x) {
-    const double theta = 2.0 * std::numbers::pi * (x + 0.5) / width;
-    table.insert(table.end(), {float(std::cos(theta)), float(std::sin(theta))});
-  }
-  for (int y = 0; y < height; ++y) {
-    const double phi = std::numbers::pi * (y + 0.5) / height;
-    table.insert(table.end(), {float(std::sin(phi)), float(std::cos(phi))});
-  }
+  std::vector<float> table = panorama_ray_table(width, height);
   for (int t = -p.taps; t <= p.taps; ++t) {
     const double s = double(t) * p.step;
     table.insert(table.end(), {float(std::exp(-s * s / (2 * p.sigma_s * p.sigma_s))), 0.0f});

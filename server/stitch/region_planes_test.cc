@@ -12,71 +12,12 @@
 #include <numbers>
 #include <stdexcept>
 
+#include "server/stitch/region_planes_scene.h"
+
 namespace omnisweep::stitch {
 namespace {
 
-constexpr int kW = 256, kH = 128;
-constexpr double kMinDistance = 0.55, kMaxDistance = 100.0;
-
-struct Hit {
-  double v;        // inverse distance
-  int plane;       // 0 ceiling, 1 floor, 2-5 walls
-  double x, y, z;  // the point, metres
-};
-
-// A box room around the viewpoint: ceiling 1.5 m above, floor 1.2 m below, walls at x = -3, +3
-// and y = -2.5, +2.5 (plane_fill.comp's frame: z up). Seen from inside, a ray's surface is the
-// nearest plane it meets: the largest inverse distance among the planes.
-Hit hit(int x, int y) {
-  const double theta = 2.0 * std::numbers::pi * (x + 0.5) / kW;
-  const double phi = std::numbers::pi * (y + 0.5) / kH;
-  const double r[3] = {std::sin(phi) * std::cos(theta), std::sin(phi) * std::sin(theta),
-                       std::cos(phi)};
-  const double planes[6][3] = {{0, 0, 1 / 1.5}, {0, 0, -1 / 1.2}, {-1 / 3.0, 0, 0},
-                               {1 / 3.0, 0, 0}, {0, -1 / 2.5, 0}, {0, 1 / 2.5, 0}};
-  Hit h{-1, -1, 0, 0, 0};
-  for (int k = 0; k < 6; ++k) {
-    const double v = planes[k][0] * r[0] + planes[k][1] * r[1] + planes[k][2] * r[2];
-    if (v > h.v) h = {v, k, r[0] / v, r[1] / v, r[2] / v};
-  }
-  return h;
-}
-
-struct Scene {
-  FloatImage truth;  // inverse distance
-  FloatImage distance;
-  FloatImage confidence;
-  std::vector<bool> low;
-};
-
-// Confident (0.6) and exact everywhere but where `low` holds: confidence 0.01 and the distance
-// 25 % too far (the ISB filter's fill). `hole` pixels have no distance.
-Scene make_scene(const std::function<bool(const Hit&, int, int)>& low,
-                 const std::function<bool(const Hit&, int, int)>& hole = {}) {
-  Scene s{FloatImage(kW, kH), FloatImage(kW, kH), FloatImage(kW, kH),
-          std::vector<bool>(std::size_t(kW) * kH)};
-  for (int y = 0; y < kH; ++y) {
-    for (int x = 0; x < kW; ++x) {
-      const std::size_t i = std::size_t(y) * kW + x;
-      const Hit h = hit(x, y);
-      s.truth.data()[i] = float(h.v);
-      if (hole && hole(h, x, y)) {
-        s.distance.data()[i] = 0.0f;
-        s.confidence.data()[i] = 0.0f;
-        continue;
-      }
-      s.low[i] = low(h, x, y);
-      s.distance.data()[i] = float(1.0 / (s.low[i] ? 0.8 * h.v : h.v));
-      s.confidence.data()[i] = s.low[i] ? 0.01f : 0.6f;
-    }
-  }
-  return s;
-}
-
-// The ceiling more than 0.6 m from the walls: a plain region with a confident rim on its plane.
-bool plain_ceiling(const Hit& h, int, int) {
-  return h.plane == 0 && std::abs(h.x) < 2.4 && std::abs(h.y) < 1.9;
-}
+using namespace region_test;  // NOLINT(google-build-using-namespace): the scene
 
 RegionPlaneParams params() { return RegionPlaneParams::for_width(kW); }
 
@@ -186,7 +127,7 @@ TEST(RegionPlanes, BadInputIsNamed) {
     EXPECT_NE(std::string(e.what()).find("tau"), std::string::npos) << e.what();
   }
   p = params();
-  p.max_planes = 33;
+  p.max_planes = kRegionPlaneMaxPlanes + 1;
   EXPECT_THROW(region_planes_cpu(s.distance, s.confidence, p, kMinDistance, kMaxDistance),
                std::invalid_argument);
   EXPECT_THROW(region_planes_cpu(s.distance, s.confidence, params(), 2.0, 1.0),
@@ -195,13 +136,13 @@ TEST(RegionPlanes, BadInputIsNamed) {
 
 TEST(RegionPlanes, SettingsScaleWithTheWidth) {
   const RegionPlaneParams full = RegionPlaneParams::for_width(2048);
-  EXPECT_EQ(full.rim, 8);
+  EXPECT_EQ(full.block, 4);
+  EXPECT_EQ(full.rim, 2);
   EXPECT_EQ(full.min_pixels, 2000);
-  EXPECT_EQ(full.cell, 8);
   const RegionPlaneParams quarter = RegionPlaneParams::for_width(512);
+  EXPECT_EQ(quarter.block, 1);
   EXPECT_EQ(quarter.rim, 2);
   EXPECT_EQ(quarter.min_pixels, 125);
-  EXPECT_EQ(quarter.cell, 2);
 }
 
 }  // namespace

@@ -126,6 +126,10 @@ Stitcher::Stitcher(gpu::Context& context, const Rig& matching_rig, const Rig& co
                         options.plane_fill, options.min_distance, options.max_distance);
     merged_distance_.emplace(context, out_distance_.size());
   }
+  if (options.region_planes)
+    region_planes_.emplace(context, options.panorama_width, options.panorama_height,
+                           RegionPlaneParams::for_width(options.panorama_width),
+                           options.min_distance, options.max_distance);
   if (options.temporal)
     temporal_.emplace(context, options.panorama_width, options.panorama_height, *options.temporal);
   gpu_bytes_ = context.allocated_bytes() - allocated_before_;
@@ -248,6 +252,11 @@ void Stitcher::record(gpu::Sequence& seq, const gpu::Buffer& distance,
     seq.barrier();
     seq.begin_stage("plane fill");
     plane_fill_->record(seq, out_color_, merged, out_confidence_, out_distance_);
+  }
+  if (region_planes_ && confidence) {
+    seq.barrier();
+    seq.begin_stage("region planes");
+    region_planes_->record(seq, out_distance_, out_confidence_);
   }
   if (temporal_) {
     seq.barrier();

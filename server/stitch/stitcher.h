@@ -14,6 +14,7 @@
 #include "omnisweep/reproject/forward_warp.h"
 #include "omnisweep/rig/rig.h"
 #include "server/stitch/plane_fill.h"
+#include "server/stitch/region_planes.h"
 #include "server/stitch/temporal_filter.h"
 
 namespace omnisweep::stitch {
@@ -34,6 +35,10 @@ struct StitchOptions {
   // default, ALGORITHM.md). Needs the cost confidences (stitch()'s `confidence`); without them
   // nothing is filled.
   double plane_fill = 0.0;
+  // The region planes (region_planes.h): each unconfident region's distances from the planes
+  // RANSAC finds on its confident rim, where they surround the pixel; after the plane fill. Off
+  // by default (ALGORITHM.md). Needs the cost confidences, as the plane fill.
+  bool region_planes = false;
   // A temporal filter on the panorama's distance (temporal_filter.h) for streams: each frame
   // then depends on the ones before it. None by default.
   std::optional<TemporalOptions> temporal;
@@ -113,6 +118,7 @@ class Stitcher {
   gpu::Kernel merge_;
   std::optional<PlaneFill> plane_fill_;
   std::optional<gpu::Buffer> merged_distance_;  // the merge's distances, with the plane fill
+  std::optional<RegionPlanes> region_planes_;
   std::optional<TemporalFilter> temporal_;
   gpu::Sequence sequence_;
   std::uint64_t gpu_bytes_ = 0;

@@ -15,7 +15,6 @@
 #include "server/depth/photometric_model.h"
 #include "server/pipeline/gpu_frame.h"
 #include "server/stitch/panorama_metrics.h"
-#include "server/stitch/region_planes.h"
 #include "server/stitch/stitcher.h"
 #include "server/synthetic/synthetic_rig.h"
 #include "server/tools/bench_model.h"
@@ -46,7 +45,7 @@ struct Variant {
   double confident_sigma_s = 0;  // DepthOptions::confident_sigma_s
   double plane_fill = 0;         // StitchOptions::plane_fill
   double sigma_s = 0;            // DepthOptions::sigma_s; 0: the paper's
-  bool region_planes = false;    // stitch/region_planes.h, on the host after the GPU frame
+  bool region_planes = false;    // StitchOptions::region_planes
 };
 
 constexpr Variant kVariants[] = {
@@ -169,6 +168,7 @@ Row run(gpu::Context& context, const AccuracySet& set, const Variant& variant,
                              .min_distance = depth_options.min_distance,
                              .max_distance = depth_options.max_distance,
                              .plane_fill = variant.plane_fill,
+                             .region_planes = variant.region_planes,
                              .temporal = std::nullopt});
   pipeline::GpuFrame gpu_frame(context, estimator, stitcher);
   std::optional<depth::PhotometricCorrector> photometry;
@@ -187,10 +187,6 @@ Row run(gpu::Context& context, const AccuracySet& set, const Variant& variant,
     context.set_command_log(&log);
     stitch::Panorama pano = gpu_frame.run(views(matching), views(color), fit);
     context.set_command_log(nullptr);
-    if (variant.region_planes)
-      pano.distance = stitch::region_planes_cpu(
-          pano.distance, pano.confidence, stitch::RegionPlaneParams::for_width(width),
-          depth_options.min_distance, depth_options.max_distance);
     ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
                      .count());
     const auto m =

@@ -330,8 +330,10 @@ int run(int argc, char** argv) {
                  "../shared/data/blender-hall; empty: none)");
   depth::DepthOptions model_options;
   double model_plane_fill = 0.0;
+  bool model_region_planes = false;
   tools::add_matching_cost_flags(app, model_options);
   tools::add_plane_fill_flag(app, model_plane_fill);
+  tools::add_region_planes_flag(app, model_region_planes);
   CLI11_PARSE(app, argc, argv);
 
   gpu::Context context(tools::context_options(device));
@@ -346,7 +348,8 @@ int run(int argc, char** argv) {
     return std::find(sections.begin(), sections.end(), section) != sections.end();
   };
   if (want("model"))
-    tools::model_section(context, model_options, model_plane_fill, model_resolution, json);
+    tools::model_section(context, model_options, model_plane_fill, model_region_planes,
+                         model_resolution, json);
   if (want("accuracy")) tools::accuracy_section(context, accuracy, json);
   if (want("stages")) stage_section(context, resolutions, iterations, json);
   if (want("filters")) filter_section(context, filter_resolution, iterations, skip_fbs, json);

@@ -125,9 +125,10 @@ double predicted_xavier_ms(const gpu::CommandLog& log) {
 }
 
 void model_section(gpu::Context& context, depth::DepthOptions options, double plane_fill,
-                   int resolution, bool json) {
+                   bool region_planes, int resolution, bool json) {
   stitch::StitchOptions stitch_options;
   stitch_options.plane_fill = plane_fill;
+  stitch_options.region_planes = region_planes;
   if (resolution > 0) {
     options.matching_width = options.matching_height = resolution;
     stitch_options.panorama_width = 2 * resolution;

@@ -7,7 +7,7 @@
 // printed and drawn in sparsification_<frame>.png. --temporal filters the distance over the
 // frames in order (a stream's filter); with --evaluate, the flicker between consecutive frames
 // (the mean |change of inverse distance| where the truth did not change) is printed too.
-// --region-planes refits the unconfident regions' distances on the host (stitch/region_planes.h).
+// --region-planes refits the unconfident regions' distances (stitch/region_planes.h).
 #include <CLI/CLI.hpp>
 #include <chrono>
 #include <cstdio>
@@ -26,7 +26,6 @@
 #include "server/depth/photometric_model.h"
 #include "server/pipeline/gpu_frame.h"
 #include "server/stitch/panorama_metrics.h"
-#include "server/stitch/region_planes.h"
 #include "server/stitch/stitcher.h"
 #include "server/tools/depth_flags.h"
 #include "server/tools/sparsification_plot.h"
@@ -112,6 +111,7 @@ int run(int argc, char** argv) {
   stitch_options.viewpoint = viewpoint;
   stitch_options.temporal = temporal;
   stitch_options.plane_fill = plane_fill;
+  stitch_options.region_planes = region_planes;
   stitch::Stitcher stitcher(context, matching_rig, color_rig, options.references, masks,
                             stitch_options);
   pipeline::GpuFrame gpu_frame(context, estimator, stitcher);
@@ -154,15 +154,6 @@ int run(int argc, char** argv) {
         stitch::Panorama pano = gpu_frame.run(views(images), views(color), fit);
         // The fit's host time joins the GPU stages, as the stage "photometry_fit".
         if (photometry) pano.stage_ms.insert(pano.stage_ms.begin(), {"photometry_fit", fit_ms});
-        // The region planes run on the host, after the GPU frame: a stage of their own.
-        if (region_planes) {
-          const auto t = Clock::now();
-          pano.distance = stitch::region_planes_cpu(
-              pano.distance, pano.confidence, stitch::RegionPlaneParams::for_width(panorama[0]),
-              options.min_distance, options.max_distance);
-          pano.stage_ms.emplace_back(
-              "region_planes", std::chrono::duration<double, std::milli>(Clock::now() - t).count());
-        }
         const double ms = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
 
         const FloatImage inverse = reciprocal_or_zero(pano.distance);

@@ -53,12 +53,12 @@ inline void add_plane_fill_flag(CLI::App& app, double& plane_fill) {
       ->check(CLI::Range(0.0, 0.99));
 }
 
-// --region-planes into `region_planes` (stitch/region_planes.h; on the host, after the GPU frame).
+// --region-planes into `region_planes` (StitchOptions::region_planes, stitch/region_planes.h).
 inline void add_region_planes_flag(CLI::App& app, bool& region_planes) {
   app.add_flag("--region-planes", region_planes,
                "Replace the distances of each unconfident region (confidence below 0.05) by the "
                "planes RANSAC finds among the confident pixels on its rim and in its holes, where "
-               "they surround the pixel (on the host, after the GPU; docs/accuracy.md)");
+               "they surround the pixel (after the plane fill; docs/accuracy.md)");
 }
 
 // --temporal (the filter with its defaults) and --temporal-frames N, into `temporal`.
