@@ -2,7 +2,7 @@
 #extension GL_GOOGLE_include_directive : require
 // Region planes, step 3a (server/stitch/region_planes.h): a block's support pixel supports the
 // regions (the first kNearRegions, in scan order) with a block within `rim` blocks (a disk).
-// Phase 0 counts each region's supports and its histogram of their hashes' top 8 bits; phase 1
+// Phase 0 counts each region's histogram of its supports' hashes' top 8 bits; phase 1
 // (after region_threshold.comp) collects the candidates of the bins up to the region's last
 // sampled bin, in any order (region_sample.comp sorts them).
 layout(local_size_x_id = 100, local_size_y_id = 101, local_size_z_id = 102) in;
@@ -42,7 +42,6 @@ void main() {
     const uint key = support_hash(b, regions[field(l, kRoot)]);
     const uint bin = key >> 24u;
     if (push.phase == 0) {
-      atomicAdd(regions[field(l, kSupports)], 1u);
       atomicAdd(histogram[l * 256 + int(bin)], 1u);
     } else if (int(bin) <= int(regions[field(l, kLastBin)])) {
       const uint at = atomicAdd(regions[field(l, kCollected)], 1u);

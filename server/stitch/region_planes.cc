@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <array>
-#include <bit>
 #include <cmath>
 #include <cstdint>
 #include <stdexcept>
@@ -73,7 +72,7 @@ struct Region {
   std::vector<Vec3f> planes;
 };
 
-// Step 4 (region_ransac.comp): sequential RANSAC over the region's sample.
+// Step 4 (region_hypotheses.comp, region_refit.comp): sequential RANSAC over the region's sample.
 void find_planes(Region& r, const RegionPlaneParams& p) {
   const int n = int(r.rays.size());
   r.tag.assign(n, -1);
@@ -199,9 +198,13 @@ FloatImage region_planes_cpu(const FloatImage& distance, const FloatImage& confi
       }
     }
   }
+  // Each block straight at its root (region_flatten.comp).
   std::vector<long long> size(nb, 0);
-  for (int b = 0; b < nb; ++b)
-    if (low[b]) size[find(parent, b)] += low[b];
+  for (int b = 0; b < nb; ++b) {
+    if (!low[b]) continue;
+    parent[b] = find(parent, b);
+    size[parent[b]] += low[b];
+  }
   std::vector<int> slot(nb, -1);
   std::vector<Region> regions;
   for (int b = 0; b < nb && int(regions.size()) < params.max_regions; ++b) {
@@ -212,7 +215,7 @@ FloatImage region_planes_cpu(const FloatImage& distance, const FloatImage& confi
     }
   }
   if (regions.empty()) return out;
-  auto region_of = [&](int b) { return low[b] ? slot[find(parent, b)] : -1; };
+  auto region_of = [&](int b) { return low[b] ? slot[parent[b]] : -1; };
 
   // 3. Support (region_support.comp, region_threshold.comp, region_sample.comp).
   auto near_regions = [&](int b, std::array<int, region_math::kNearRegions>& list) {
@@ -239,12 +242,12 @@ FloatImage region_planes_cpu(const FloatImage& distance, const FloatImage& confi
     for (int k = 0; k < count; ++k) {
       Region& r = regions[list[k]];
       const std::uint32_t key = region_math::support_hash(std::uint32_t(b), std::uint32_t(r.root));
-      ++r.supports;
       ++r.bins[key >> 24];
       r.candidates.push_back({key, std::uint32_t(b)});
     }
   }
   for (Region& r : regions) {
+    r.supports = std::uint32_t(r.candidates.size());
     const int last = region_math::last_bin(r.bins, kRegionPlaneCandidates);
     std::erase_if(r.candidates, [&](const auto& e) { return int(e[0] >> 24) > last; });
     std::sort(r.candidates.begin(), r.candidates.end());

@@ -43,7 +43,7 @@
 
 namespace omnisweep::stitch {
 
-// Fixed by the kernels' shared memory (region_ransac.comp, region_sample.comp).
+// Fixed by the kernels' shared memory (region_refit.comp, region_sample.comp).
 constexpr int kRegionPlaneSample = 1024;      // supports per region, at most
 constexpr int kRegionPlaneCandidates = 2048;  // candidates the sample is sorted from, at most
 constexpr int kRegionPlaneMaxRegions = 16;
