@@ -100,7 +100,8 @@ TEST(ProcessCli, BadInputGetsAClearError) {
                             (dir.path() / "out").string() + " --method best" + kSmall,
                         &out),
             0);
-  EXPECT_NE(out.find("unknown method 'best' (one of paper, recommended)"), std::string::npos)
+  EXPECT_NE(out.find("unknown method 'best' (one of paper, recommended, accurate)"),
+            std::string::npos)
       << out;
 
   // A frame with a broken image is skipped, named, and the run fails; the other frame is written.

@@ -20,16 +20,21 @@ std::optional<MatchingCost> matching_cost_named(std::string_view name) {
   return std::nullopt;
 }
 
+const Method* method_named(std::string_view name) {
+  for (const Method& method : kMethods)
+    if (method.name == name) return &method;
+  return nullptr;
+}
+
 bool apply_method(std::string_view name, DepthOptions& options) {
-  for (const Method& method : kMethods) {
-    if (method.name != name) continue;
-    options.cost = method.cost;
-    options.correct_photometry = method.correct_photometry;
-    options.match_cameras = method.match_cameras;
-    options.confident_sigma_s = method.confident_sigma_s;
-    return true;
-  }
-  return false;
+  const Method* method = method_named(name);
+  if (!method) return false;
+  options.cost = method->cost;
+  options.correct_photometry = method->correct_photometry;
+  options.match_cameras = method->match_cameras;
+  options.confident_sigma_s = method->confident_sigma_s;
+  options.sigma_s = method->sigma_s;
+  return true;
 }
 
 std::string method_flags(const Method& method) {
@@ -38,6 +43,9 @@ std::string method_flags(const Method& method) {
   if (method.correct_photometry) flags << " --correct-photometry";
   if (method.match_cameras != 1) flags << " --match-cameras " << method.match_cameras;
   if (method.confident_sigma_s > 0) flags << " --confident-sigma-s " << method.confident_sigma_s;
+  if (method.sigma_s != DepthOptions{}.sigma_s) flags << " --sigma-s " << method.sigma_s;
+  if (method.plane_fill > 0) flags << " --plane-fill " << method.plane_fill;
+  if (method.region_planes) flags << " --region-planes";
   return flags.str().empty() ? "" : flags.str().substr(1);
 }
 

@@ -92,26 +92,36 @@ struct DepthOptions {
   }
 };
 
-// Named methods: each sets the matching variants (cost, photometric correction, cameras matched,
-// confident sigma) at once; every other option keeps its value. "paper" is ALGORITHM.md, the
-// defaults; "recommended" is the most accurate variant measured (docs/accuracy.md): 48 % lower
-// MAE than the paper's on the synthetic frames, 8 % on blender-hall, and under lenses with
-// different gains and vignetting as accurate as the paper's method without them.
+// Named methods: each sets the variants (cost, photometric correction, cameras matched, confident
+// sigma, the ISB filter's spatial sigma, and the stitcher's plane fill and region planes) at once;
+// every other option keeps its value. "paper" is ALGORITHM.md, DepthOptions' and StitchOptions'
+// defaults; "recommended" the matching variants alone; "accurate" the most accurate variant
+// measured and the programs' default (docs/accuracy.md, "Defaults"): 28 % lower MAE than the
+// paper's on blender-hall, 54 % on the synthetic frames, 27 % with sensor noise, and under lenses
+// with different gains and vignetting within 1.14 x of its MAE without them (with noise).
 struct Method {
   std::string_view name;
   MatchingCost cost;
   bool correct_photometry;
   int match_cameras;
   double confident_sigma_s;
+  double sigma_s;      // DepthOptions::sigma_s
+  double plane_fill;   // StitchOptions::plane_fill
+  bool region_planes;  // StitchOptions::region_planes
 };
 inline constexpr Method kMethods[] = {
-    {"paper", MatchingCost::kAbsoluteDifference, false, 1, 0.0},
-    {"recommended", MatchingCost::kAbsoluteDifference, true, 2, 5.0}};
-// Sets `options`' matching variants to the named method's; false (and `options` unchanged) where
-// no method has that name.
+    {"paper", MatchingCost::kAbsoluteDifference, false, 1, 0.0, 25.0, 0.0, false},
+    {"recommended", MatchingCost::kAbsoluteDifference, true, 2, 5.0, 25.0, 0.0, false},
+    {"accurate", MatchingCost::kAbsoluteDifference, true, 2, 5.0, 20.0, 0.05, true}};
+// The programs' method when none is named (omnisweep-process, -server, -depth, -bench's model).
+inline constexpr std::string_view kDefaultMethod = "accurate";
+// The named method; nullptr where none has that name.
+const Method* method_named(std::string_view name);
+// Sets `options`' matching variants and sigma_s to the named method's; false (and `options`
+// unchanged) where no method has that name.
 bool apply_method(std::string_view name, DepthOptions& options);
-// The flags that a method stands for, e.g. "--correct-photometry --match-cameras 2" ("" for the
-// paper's).
+// The flags that a method stands for beyond the paper's, e.g. "--correct-photometry
+// --match-cameras 2" ("" for the paper's).
 std::string method_flags(const Method& method);
 
 }  // namespace omnisweep::depth

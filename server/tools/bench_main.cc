@@ -331,7 +331,7 @@ int run(int argc, char** argv) {
   depth::DepthOptions model_options;
   double model_plane_fill = 0.0;
   bool model_region_planes = false;
-  tools::add_matching_cost_flags(app, model_options);
+  tools::add_matching_cost_flags(app, model_options, {&model_plane_fill, &model_region_planes});
   tools::add_plane_fill_flag(app, model_plane_fill);
   tools::add_region_planes_flag(app, model_region_planes);
   CLI11_PARSE(app, argc, argv);

@@ -11,6 +11,7 @@
 #include "server/tools/bench_model.h"
 
 #include <cstdio>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -18,6 +19,7 @@
 #include "omnisweep/reproject/reprojector.h"
 #include "server/depth/depth_estimator.h"
 #include "server/depth/depth_inputs.h"
+#include "server/depth/photometric_model.h"
 #include "server/pipeline/gpu_frame.h"
 #include "server/stitch/stitcher.h"
 #include "server/synthetic/synthetic_rig.h"
@@ -118,6 +120,83 @@ void vr_frame(gpu::Context& context, bool json) {
             "2 x 1440x1600 pinhole, 6.4 cm apart, 5 cm from the centre", json);
 }
 
+// Records into `log` the second of two frames of `options` and `stitch_options` as
+// omnisweep-process submits them (one submission, depth staying on the GPU); the first also
+// computes what is kept for a calibration and pose (the inpainting directions), which a stream
+// does once.
+void record_frame(gpu::Context& context, const depth::DepthOptions& options,
+                  const stitch::StitchOptions& stitch_options, gpu::CommandLog& log) {
+  const synthetic::SyntheticRig rig;
+  const Rig& full_rig = rig.rig();
+  const Rig matching_rig = full_rig.resized(options.matching_width, options.matching_height);
+  std::vector<std::optional<Gray8Image>> masks;
+  for (auto& m : rig.masks()) masks.emplace_back(std::move(m));
+  masks = depth::matching_masks(masks, options);
+  depth::DepthEstimator estimator(context, matching_rig, masks, options);
+  stitch::Stitcher stitcher(context, matching_rig, full_rig, options.references, masks,
+                            stitch_options);
+  synthetic::SyntheticFrame frame = rig.render(0, 8, 4);
+  std::vector<Rgb8Image> images;
+  for (auto& camera : frame.cameras) images.push_back(std::move(camera.rgb));
+
+  const auto matching = depth::matching_images(images, options);
+  const auto color = depth::reference_color_images(images, full_rig, options.references);
+  pipeline::GpuFrame gpu_frame(context, estimator, stitcher);
+  // With the photometric correction, its fit (on the host, not recorded) and its dispatch (the
+  // frame's first, recorded), as omnisweep-process runs it.
+  std::optional<depth::PhotometricCorrector> photometry;
+  if (options.correct_photometry) photometry.emplace(matching_rig, masks);
+  const depth::PhotometryFit* fit = photometry ? &photometry->fit(views(matching)) : nullptr;
+  for (int run = 0; run < 2; ++run) {
+    log.clear();
+    context.set_command_log(&log);
+    gpu_frame.run(views(matching), views(color), fit);
+    context.set_command_log(nullptr);
+  }
+}
+
+// Whether the options are the paper's method (every variant a method sets at its paper value).
+bool is_paper(const depth::DepthOptions& options, const stitch::StitchOptions& stitch_options) {
+  depth::DepthOptions paper = options;
+  depth::apply_method("paper", paper);
+  return options.cost == paper.cost && options.correct_photometry == paper.correct_photometry &&
+         options.match_cameras == paper.match_cameras &&
+         options.confident_sigma_s == paper.confident_sigma_s && options.sigma_s == paper.sigma_s &&
+         stitch_options.plane_fill == 0 && !stitch_options.region_planes;
+}
+
+// The frame's predicted time over the paper's frame's, per device, side by side: the time
+// condition of a new default (docs/accuracy.md, "Defaults": at most 1.20 on the Xavier).
+void print_against_paper(const gpu::CommandLog& log, const gpu::CommandLog& paper, bool json) {
+  const gpu::CommandTotals frame = log.totals(""), paper_frame = paper.totals("");
+  if (json) {
+    std::printf("{\"kind\": \"model_against_paper\", \"ratio\": {");
+    for (const auto& d : kProfiles)
+      std::printf("%s\"%s\": %.4f", &d == kProfiles ? "" : ", ", d.name,
+                  predicted_ms(frame, d) / predicted_ms(paper_frame, d));
+    std::printf("}, \"paper_ms\": {");
+    for (const auto& d : kProfiles)
+      std::printf("%s\"%s\": %.3f", &d == kProfiles ? "" : ", ", d.name,
+                  predicted_ms(paper_frame, d));
+    std::printf("}}\n");
+    return;
+  }
+  std::printf("\nAgainst the paper's frame (--method paper), recorded in the same run\n");
+  std::printf("%-14s %10s %9s %11s %12s %12s", "", "", "", "", "", "");
+  for (const auto& d : kProfiles) std::printf(" %12.12s", d.name);
+  std::printf("\n%-14s %10llu %9llu %11llu %12.1f %12.1f", "paper frame",
+              static_cast<unsigned long long>(paper_frame.dispatches),
+              static_cast<unsigned long long>(paper_frame.barriers),
+              static_cast<unsigned long long>(paper_frame.round_trips),
+              double(paper_frame.bound_bytes) * 1e-6,
+              double(paper_frame.upload_bytes + paper_frame.download_bytes) * 1e-6);
+  for (const auto& d : kProfiles) std::printf(" %12.2f", predicted_ms(paper_frame, d));
+  std::printf("   (predicted ms)\n%-14s %59s", "ratio", "");
+  for (const auto& d : kProfiles)
+    std::printf(" %11.3fx", predicted_ms(frame, d) / predicted_ms(paper_frame, d));
+  std::printf("   (a new default: at most 1.20x on the Xavier)\n");
+}
+
 }  // namespace
 
 double predicted_xavier_ms(const gpu::CommandLog& log) {
@@ -134,32 +213,8 @@ void model_section(gpu::Context& context, depth::DepthOptions options, double pl
     stitch_options.panorama_width = 2 * resolution;
     stitch_options.panorama_height = resolution;
   }
-  const synthetic::SyntheticRig rig;
-  const Rig& full_rig = rig.rig();
-  const Rig matching_rig = full_rig.resized(options.matching_width, options.matching_height);
-  std::vector<std::optional<Gray8Image>> masks;
-  for (auto& m : rig.masks()) masks.emplace_back(std::move(m));
-  masks = depth::matching_masks(masks, options);
-  depth::DepthEstimator estimator(context, matching_rig, masks, options);
-  stitch::Stitcher stitcher(context, matching_rig, full_rig, options.references, masks,
-                            stitch_options);
-  synthetic::SyntheticFrame frame = rig.render(0, 8, 4);
-  std::vector<Rgb8Image> images;
-  for (auto& camera : frame.cameras) images.push_back(std::move(camera.rgb));
-
-  // The frame as omnisweep-process runs it: one submission, depth staying on the GPU.
-  const auto matching = depth::matching_images(images, options);
-  const auto color = depth::reference_color_images(images, full_rig, options.references);
-  // The second frame is recorded: the first also computes what is kept for a calibration and
-  // pose (the inpainting directions), which a stream does once.
-  pipeline::GpuFrame gpu_frame(context, estimator, stitcher);
   gpu::CommandLog log;
-  for (int run = 0; run < 2; ++run) {
-    log.clear();
-    context.set_command_log(&log);
-    gpu_frame.run(views(matching), views(color));
-    context.set_command_log(nullptr);
-  }
+  record_frame(context, options, stitch_options, log);
 
   const std::string frame_name = std::to_string(options.matching_width) + "^2 matching, " +
                                  std::to_string(options.num_candidates) + " candidates, " +
@@ -173,6 +228,16 @@ void model_section(gpu::Context& context, depth::DepthOptions options, double pl
   }
   print_log(log, "model", "Frame cost model: a frame as the estimator and stitcher record it",
             frame_name, json);
+  if (!is_paper(options, stitch_options)) {
+    depth::DepthOptions paper_options = options;
+    depth::apply_method("paper", paper_options);
+    stitch::StitchOptions paper_stitch = stitch_options;
+    paper_stitch.plane_fill = 0;
+    paper_stitch.region_planes = false;
+    gpu::CommandLog paper_log;
+    record_frame(context, paper_options, paper_stitch, paper_log);
+    print_against_paper(log, paper_log, json);
+  }
   vr_frame(context, json);
 }
 

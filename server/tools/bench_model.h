@@ -14,7 +14,8 @@ double predicted_xavier_ms(const gpu::CommandLog& log);
 // the plane fill `plane_fill` and the region planes if `region_planes`, as StitchOptions), or
 // with matching `resolution` and a panorama of 2 x `resolution` x `resolution`; records what they
 // submit (gpu::CommandLog) and prints, per stage and for the frame, dispatches, barriers, host
-// round trips, bound bytes and the predicted time on named devices.
+// round trips, bound bytes and the predicted time on named devices; where the variants are not
+// the paper's method, the paper's frame recorded beside it and the ratio of the two per device.
 void model_section(gpu::Context& context, depth::DepthOptions options, double plane_fill,
                    bool region_planes, int resolution, bool json);
 

@@ -19,26 +19,48 @@ std::string joined_names(const Table& table) {
   return names;
 }
 
-// The variants beyond the paper's matching (docs/accuracy.md): --method, --cost and the
-// parameters of its features, the photometric correction, the cameras matched and the confident
-// sigma. --method is defined first: CLI11 applies options in the order they are defined, so a
-// variant's own flag overrides the method's setting of it.
-inline void add_matching_cost_flags(CLI::App& app, depth::DepthOptions& options) {
+// Where a program keeps the stitcher's variants that a method sets (StitchOptions::plane_fill,
+// StitchOptions::region_planes); null members: the program does not stitch.
+struct StitchVariants {
+  double* plane_fill = nullptr;
+  bool* region_planes = nullptr;
+};
+
+// Sets `options` (and `stitch`'s variants) to the method's.
+inline void apply_method(const depth::Method& method, depth::DepthOptions& options,
+                         const StitchVariants& stitch) {
+  depth::apply_method(method.name, options);
+  if (stitch.plane_fill) *stitch.plane_fill = method.plane_fill;
+  if (stitch.region_planes) *stitch.region_planes = method.region_planes;
+}
+
+// The variants beyond the paper's method (docs/accuracy.md): --method, --cost and the parameters
+// of its features, the photometric correction, the cameras matched and the confident sigma. The
+// default method (depth::kDefaultMethod) is applied here, before parsing; --method is defined
+// before every flag it sets (--sigma-s, --plane-fill and --region-planes too, by the programs):
+// CLI11 applies options in the order they are defined, so a variant's own flag overrides the
+// method's setting of it wherever it stands.
+inline void add_matching_cost_flags(CLI::App& app, depth::DepthOptions& options,
+                                    StitchVariants stitch = {}) {
   const std::string methods = joined_names(depth::kMethods);
   std::string stands_for;
   for (const depth::Method& method : depth::kMethods) {
     const std::string flags = depth::method_flags(method);
     stands_for += std::string(stands_for.empty() ? "" : "; ") + std::string(method.name) + ": " +
-                  (flags.empty() ? "ALGORITHM.md, the default" : flags);
+                  (flags.empty() ? "ALGORITHM.md" : flags) +
+                  (method.name == depth::kDefaultMethod ? ", the default" : "");
   }
+  apply_method(*depth::method_named(depth::kDefaultMethod), options, stitch);
   app.add_option_function<std::string>(
       "--method",
-      [&options, methods](const std::string& name) {
-        if (!depth::apply_method(name, options))
+      [&options, methods, stitch](const std::string& name) {
+        const depth::Method* method = depth::method_named(name);
+        if (!method)
           throw CLI::ValidationError("--method",
                                      "unknown method '" + name + "' (one of " + methods + ")");
+        apply_method(*method, options, stitch);
       },
-      "Matching variants at once (" + stands_for +
+      "Variants at once (" + stands_for +
           "); a variant's own flag overrides it (docs/accuracy.md)");
   const std::string names = joined_names(depth::kMatchingCostNames);
   app.add_option_function<std::string>(
@@ -49,7 +71,7 @@ inline void add_matching_cost_flags(CLI::App& app, depth::DepthOptions& options)
         options.cost = *cost;
       },
       "Matching cost: " + names + " (default ad, the paper's; docs/accuracy.md)");
-  app.add_flag("--correct-photometry", options.correct_photometry,
+  app.add_flag("--correct-photometry,!--no-correct-photometry", options.correct_photometry,
                "Estimate each camera's gain, colour cast and vignetting from what the cameras see "
                "in common, and undo them before matching and stitching");
   app.add_option("--match-cameras", options.match_cameras,
@@ -84,10 +106,12 @@ inline void add_matching_cost_flags(CLI::App& app, depth::DepthOptions& options)
       ->check(CLI::Range(0.0, 1e3));
 }
 
-// --references, --candidates, --min-dist, --max-dist, --sigma-i, --sigma-s,
-// --matching-resolution W H, --float32-costs, --max-group (written into the options) and
-// --vk-device (into `device`).
-inline void add_depth_flags(CLI::App& app, depth::DepthOptions& options, std::string& device) {
+// The matching variants (add_matching_cost_flags, with `stitch`), --references, --candidates,
+// --min-dist, --max-dist, --sigma-i, --sigma-s, --matching-resolution W H, --float32-costs,
+// --max-group (written into the options) and --vk-device (into `device`).
+inline void add_depth_flags(CLI::App& app, depth::DepthOptions& options, std::string& device,
+                            StitchVariants stitch = {}) {
+  add_matching_cost_flags(app, options, stitch);
   app.add_option("--references", options.references,
                  "Reference cameras (default: a dataset's dataset.json, else 2 3; at most 8)")
       ->expected(1, 16);
@@ -99,7 +123,8 @@ inline void add_depth_flags(CLI::App& app, depth::DepthOptions& options, std::st
       ->check(CLI::PositiveNumber);
   app.add_option("--sigma-i", options.sigma_i, "Range sigma of the ISB filter")
       ->check(CLI::PositiveNumber);
-  app.add_option("--sigma-s", options.sigma_s, "Spatial sigma of the ISB filter at 1024 px")
+  app.add_option("--sigma-s", options.sigma_s,
+                 "Spatial sigma of the ISB filter at 1024 px (the paper's: 25)")
       ->check(CLI::PositiveNumber);
   app.add_option_function<std::vector<int>>(
          "--matching-resolution",
@@ -117,7 +142,6 @@ inline void add_depth_flags(CLI::App& app, depth::DepthOptions& options, std::st
                  "At most this many references per dispatch, each with its cost volume in "
                  "memory (default 0: all)")
       ->check(CLI::Range(0, 8));
-  add_matching_cost_flags(app, options);
   app.add_option("--coarse-agreement", options.coarse_agreement,
                  "Lower the confidence where the distance disagrees with its 8x8 block's filtered "
                  "winner: tolerance in m^-1 (default 0.03; 0 turns it off; docs/accuracy.md)")

@@ -1,43 +1,86 @@
-// The shared depth flags as the programs parse them: --method sets the matching variants at once,
-// a variant's own flag overrides it wherever it stands, and a bad name is named in the error.
+// The shared depth flags as the programs parse them: --method sets the variants at once ("accurate"
+// unless named), a variant's own flag overrides it wherever it stands, and a bad name is named in
+// the error.
 #include "server/tools/depth_flags.h"
 
 #include <gtest/gtest.h>
 
 #include <string>
+#include <utility>
 #include <vector>
+
+#include "server/tools/stitch_flags.h"
 
 namespace omnisweep::tools {
 namespace {
 
-depth::DepthOptions parsed(std::vector<std::string> args) {
+// The parsed flags: the depth options and the stitcher's variants that a method sets.
+struct Parsed {
   depth::DepthOptions options;
+  double plane_fill = 0;
+  bool region_planes = false;
+};
+
+Parsed parse(std::vector<std::string> args) {
+  Parsed p;
   std::string device;
   CLI::App app;
-  add_depth_flags(app, options, device);
+  add_depth_flags(app, p.options, device, {&p.plane_fill, &p.region_planes});
+  add_plane_fill_flag(app, p.plane_fill);
+  add_region_planes_flag(app, p.region_planes);
   args.insert(args.begin(), "omnisweep-test");
   std::vector<const char*> argv;
   for (const std::string& arg : args) argv.push_back(arg.c_str());
   app.parse(int(argv.size()), argv.data());
-  return options;
+  return p;
 }
 
-TEST(DepthFlagsTest, MethodRecommendedSetsTheVariantsAndPaperIsTheDefaults) {
-  const depth::DepthOptions defaults;
-  const depth::DepthOptions recommended = parsed({"--method", "recommended"});
-  EXPECT_EQ(recommended.cost, depth::MatchingCost::kAbsoluteDifference);
-  EXPECT_TRUE(recommended.correct_photometry);
-  EXPECT_EQ(recommended.match_cameras, 2);
-  EXPECT_EQ(recommended.confident_sigma_s, 5.0);
-  EXPECT_EQ(recommended.sigma_s, defaults.sigma_s);  // only the variants change
-  EXPECT_EQ(recommended.coarse_agreement, defaults.coarse_agreement);
+depth::DepthOptions parsed(std::vector<std::string> args) { return parse(std::move(args)).options; }
 
-  const depth::DepthOptions paper = parsed({"--method", "paper"});
-  EXPECT_EQ(paper.cost, defaults.cost);
-  EXPECT_EQ(paper.correct_photometry, defaults.correct_photometry);
-  EXPECT_EQ(paper.match_cameras, defaults.match_cameras);
-  EXPECT_EQ(paper.confident_sigma_s, defaults.confident_sigma_s);
-  EXPECT_EQ(parsed({}).confident_sigma_s, 0.0);
+TEST(DepthFlagsTest, AccurateIsTheDefaultAndEachMethodSetsItsVariants) {
+  const depth::DepthOptions paper_defaults;  // DepthOptions' own: ALGORITHM.md
+  const Parsed none = parse({});
+  EXPECT_EQ(none.options.cost, depth::MatchingCost::kAbsoluteDifference);
+  EXPECT_TRUE(none.options.correct_photometry);
+  EXPECT_EQ(none.options.match_cameras, 2);
+  EXPECT_EQ(none.options.confident_sigma_s, 5.0);
+  EXPECT_EQ(none.options.sigma_s, 20.0);
+  EXPECT_EQ(none.plane_fill, 0.05);
+  EXPECT_TRUE(none.region_planes);
+  EXPECT_EQ(none.options.coarse_agreement, paper_defaults.coarse_agreement);  // not a variant
+
+  const Parsed paper = parse({"--method", "paper"});
+  EXPECT_EQ(paper.options.cost, paper_defaults.cost);
+  EXPECT_EQ(paper.options.correct_photometry, paper_defaults.correct_photometry);
+  EXPECT_EQ(paper.options.match_cameras, paper_defaults.match_cameras);
+  EXPECT_EQ(paper.options.confident_sigma_s, paper_defaults.confident_sigma_s);
+  EXPECT_EQ(paper.options.sigma_s, paper_defaults.sigma_s);
+  EXPECT_EQ(paper.plane_fill, 0.0);
+  EXPECT_FALSE(paper.region_planes);
+
+  const Parsed recommended = parse({"--method", "recommended"});
+  EXPECT_TRUE(recommended.options.correct_photometry);
+  EXPECT_EQ(recommended.options.match_cameras, 2);
+  EXPECT_EQ(recommended.options.confident_sigma_s, 5.0);
+  EXPECT_EQ(recommended.options.sigma_s, paper_defaults.sigma_s);
+  EXPECT_EQ(recommended.plane_fill, 0.0);
+  EXPECT_FALSE(recommended.region_planes);
+}
+
+TEST(DepthFlagsTest, TheStitchersVariantsOverrideTheMethodWhereverTheyStand) {
+  for (const auto& args : std::vector<std::vector<std::string>>{
+           {"--method", "paper", "--plane-fill", "0.1", "--region-planes", "--sigma-s", "30"},
+           {"--plane-fill", "0.1", "--region-planes", "--sigma-s", "30", "--method", "paper"}}) {
+    const Parsed p = parse(args);
+    EXPECT_EQ(p.plane_fill, 0.1);
+    EXPECT_TRUE(p.region_planes);
+    EXPECT_EQ(p.options.sigma_s, 30.0);
+    EXPECT_FALSE(p.options.correct_photometry);  // still the method's
+  }
+  const Parsed off = parse({"--no-region-planes", "--no-correct-photometry"});
+  EXPECT_FALSE(off.region_planes);
+  EXPECT_FALSE(off.options.correct_photometry);
+  EXPECT_EQ(off.plane_fill, 0.05);  // the rest of the default method
 }
 
 TEST(DepthFlagsTest, AVariantsOwnFlagOverridesTheMethodWhereverItStands) {
@@ -59,7 +102,8 @@ TEST(DepthFlagsTest, AnUnknownMethodIsNamedWithTheChoices) {
     FAIL() << "--method best was accepted";
   } catch (const CLI::ValidationError& e) {
     const std::string what = e.what();
-    EXPECT_NE(what.find("unknown method 'best' (one of paper, recommended)"), std::string::npos)
+    EXPECT_NE(what.find("unknown method 'best' (one of paper, recommended, accurate)"),
+              std::string::npos)
         << what;
   }
   depth::DepthOptions options;
@@ -71,7 +115,10 @@ TEST(DepthFlagsTest, AMethodsFlagsComeFromItsTable) {
   EXPECT_EQ(depth::method_flags(depth::kMethods[0]), "");
   EXPECT_EQ(depth::method_flags(depth::kMethods[1]),
             "--correct-photometry --match-cameras 2 --confident-sigma-s 5");
-  const depth::Method ratio{"r", depth::MatchingCost::kRatio, false, 2, 0.0};
+  EXPECT_EQ(depth::method_flags(depth::kMethods[2]),
+            "--correct-photometry --match-cameras 2 --confident-sigma-s 5 --sigma-s 20 "
+            "--plane-fill 0.05 --region-planes");
+  const depth::Method ratio{"r", depth::MatchingCost::kRatio, false, 2, 0.0, 25.0, 0.0, false};
   EXPECT_EQ(depth::method_flags(ratio), "--cost ratio --match-cameras 2");
 }
 

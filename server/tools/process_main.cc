@@ -67,7 +67,7 @@ int run(int argc, char** argv) {
                "Compare with gt/rgb_<frame>.png and gt/inv_distance_<frame>.exr");
   app.add_flag("--json", json, "One JSON object per frame, then one with \"summary\": true");
   tools::add_panorama_flags(app, panorama_flags);
-  tools::add_depth_flags(app, options, device);
+  tools::add_depth_flags(app, options, device, {&plane_fill, &region_planes});
   tools::add_plane_fill_flag(app, plane_fill);
   tools::add_region_planes_flag(app, region_planes);
   tools::add_temporal_flags(app, temporal);

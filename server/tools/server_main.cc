@@ -68,7 +68,7 @@ int run(int argc, char** argv) {
   app.add_flag("--light", light,
                "Light setting for slow links: distance at 1/4 resolution over 2048 levels, JPEG "
                "quality 60 (about 170-225 KB per 2048x1024 frame)");
-  tools::add_depth_flags(app, options.depth, device);
+  tools::add_depth_flags(app, options.depth, device, {&options.plane_fill, &options.region_planes});
   tools::add_dds_flags(app, dds_options, "Topic prefix (several rigs on one network)");
   app.add_option("--frame-profile", frame_profile,
                  "data_writer profile of the frame topic (default omnisweep_frames)");

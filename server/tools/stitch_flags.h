@@ -47,18 +47,19 @@ inline void add_panorama_flags(CLI::App& app, PanoramaFlags& flags) {
 // --plane-fill C into `plane_fill` (StitchOptions::plane_fill).
 inline void add_plane_fill_flag(CLI::App& app, double& plane_fill) {
   app.add_option("--plane-fill", plane_fill,
-                 "Replace distances less confident than C (0-1; 0.05 measured best, 0: off, the "
-                 "default) by a plane fitted to the confident pixels around them of like colour "
-                 "(docs/accuracy.md)")
+                 "Replace distances less confident than C (0-1; 0.05 measured best, 0: off; "
+                 "default: the --method's) by a plane fitted to the confident pixels around them "
+                 "of like colour (docs/accuracy.md)")
       ->check(CLI::Range(0.0, 0.99));
 }
 
 // --region-planes into `region_planes` (StitchOptions::region_planes, stitch/region_planes.h).
 inline void add_region_planes_flag(CLI::App& app, bool& region_planes) {
-  app.add_flag("--region-planes", region_planes,
+  app.add_flag("--region-planes,!--no-region-planes", region_planes,
                "Replace the distances of each unconfident region (confidence below 0.05) by the "
                "planes RANSAC finds among the confident pixels on its rim and in its holes, where "
-               "they surround the pixel (after the plane fill; docs/accuracy.md)");
+               "they surround the pixel (after the plane fill; default: the --method's; "
+               "docs/accuracy.md)");
 }
 
 // --temporal (the filter with its defaults) and --temporal-frames N, into `temporal`.
