@@ -137,7 +137,8 @@ Sparsification sparsification(const FloatImage& distance, const FloatImage& conf
   }
   Sparsification s;
   for (int i = 0; i < steps; ++i) s.removed.push_back(double(i) / steps);
-  s.removed.push_back(0.2);  // keeps the 80 % most confident: mae_at_80, taken off below
+  s.removed.push_back(
+      0.2);  // keeps the 80 % most confident: mae_at_80 (and the oracle's), taken off below
   std::vector<std::size_t> by_confidence(n), by_error(n);
   std::iota(by_confidence.begin(), by_confidence.end(), 0);
   std::iota(by_error.begin(), by_error.end(), 0);
@@ -151,6 +152,7 @@ Sparsification sparsification(const FloatImage& distance, const FloatImage& conf
   s.oracle = remaining_mae(error, by_error, s.removed);
   s.removed.pop_back();
   s.mae_at_80 = s.mae.back();
+  s.oracle_at_80 = s.oracle.back();
   s.mae.pop_back();
   s.oracle.pop_back();
   s.monotonic = true;

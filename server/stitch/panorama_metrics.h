@@ -33,8 +33,10 @@ struct Sparsification {
   std::vector<double> mae;      // by confidence
   std::vector<double> oracle;   // by error
   double ause = 0;
-  double mae_at_80 = 0;    // the MAE of the 80 % most confident pixels
-  bool monotonic = false;  // whether the curve never rises
+  double mae_at_80 = 0;     // the MAE of the 80 % most confident pixels
+  double oracle_at_80 = 0;  // the oracle's: the MAE of the 80 % smallest errors, the least any
+                            // confidence can give mae_at_80 on these distances
+  bool monotonic = false;   // whether the curve never rises
 };
 Sparsification sparsification(const FloatImage& distance, const FloatImage& confidence,
                               const FloatImage& inverse_truth, int steps = 20);

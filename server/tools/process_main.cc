@@ -188,6 +188,7 @@ int run(int argc, char** argv) {
                                                   frame.ground_truth->inverse_distance);
           totals["ause"] += sparsification->ause;
           totals["mae_at_80"] += sparsification->mae_at_80;
+          totals["oracle_at_80"] += sparsification->oracle_at_80;
           write_png(
               fs::path(output_dir) / ("sparsification_" + frame.name + ".png"),
               tools::plot_sparsification(
@@ -213,9 +214,9 @@ int run(int argc, char** argv) {
                 metrics->mae, metrics->rmse, metrics->bad_0_1, metrics->bad_0_4, metrics->psnr,
                 metrics->ssim);
             std::printf(
-                ", \"ause\": %.6f, \"mae_at_80\": %.6f, \"sparsification_monotonic\": %s, "
-                "\"sparsification\": [",
-                sparsification->ause, sparsification->mae_at_80,
+                ", \"ause\": %.6f, \"mae_at_80\": %.6f, \"oracle_at_80\": %.6f, "
+                "\"sparsification_monotonic\": %s, \"sparsification\": [",
+                sparsification->ause, sparsification->mae_at_80, sparsification->oracle_at_80,
                 sparsification->monotonic ? "true" : "false");
             for (std::size_t i = 0; i < sparsification->mae.size(); ++i)
               std::printf("%s%.6f", i ? ", " : "", sparsification->mae[i]);
@@ -249,8 +250,9 @@ int run(int argc, char** argv) {
                 " MAE %.4f, RMSE %.4f, >0.1 %.2f %%, >0.4 %.2f %%, PSNR %.2f dB, SSIM %.4f,",
                 metrics->mae, metrics->rmse, 100 * metrics->bad_0_1, 100 * metrics->bad_0_4,
                 metrics->psnr, metrics->ssim);
-            std::printf(" AUSE %.4f, MAE of the 80 %% most confident %.4f%s,", sparsification->ause,
-                        sparsification->mae_at_80,
+            std::printf(" AUSE %.4f, MAE of the 80 %% most confident %.4f (oracle %.4f)%s,",
+                        sparsification->ause, sparsification->mae_at_80,
+                        sparsification->oracle_at_80,
                         sparsification->monotonic ? "" : " (curve not monotonic)");
             if (flicker) std::printf(" flicker %.4f,", *flicker);
           }
@@ -270,8 +272,8 @@ int run(int argc, char** argv) {
   if (json) {
     std::printf("{\"summary\": true, \"frames\": %d, \"failed\": %zu", done,
                 skipped.size() + failed);
-    for (const char* key :
-         {"mae", "rmse", "bad_0_1", "bad_0_4", "psnr", "ssim", "ause", "mae_at_80"}) {
+    for (const char* key : {"mae", "rmse", "bad_0_1", "bad_0_4", "psnr", "ssim", "ause",
+                            "mae_at_80", "oracle_at_80"}) {
       if (evaluate) std::printf(", \"%s\": %.6f", key, totals[key] / n);
     }
     if (flicker_frames > 0) std::printf(", \"flicker\": %.6f", totals["flicker"] / flicker_frames);
@@ -281,10 +283,10 @@ int run(int argc, char** argv) {
     if (evaluate && done) {
       std::printf(
           "; overall MAE %.4f, RMSE %.4f, >0.1 %.2f %%, >0.4 %.2f %%, PSNR %.2f dB, SSIM %.4f, "
-          "AUSE %.4f, MAE of the 80 %% most confident %.4f",
+          "AUSE %.4f, MAE of the 80 %% most confident %.4f (oracle %.4f)",
           totals["mae"] / n, totals["rmse"] / n, 100 * totals["bad_0_1"] / n,
           100 * totals["bad_0_4"] / n, totals["psnr"] / n, totals["ssim"] / n, totals["ause"] / n,
-          totals["mae_at_80"] / n);
+          totals["mae_at_80"] / n, totals["oracle_at_80"] / n);
       if (flicker_frames > 0) std::printf(", flicker %.4f", totals["flicker"] / flicker_frames);
     }
     std::printf("; %.1f ms per frame\n", totals["ms"] / n);

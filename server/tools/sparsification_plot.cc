@@ -66,7 +66,8 @@ Rgb8Image plot_sparsification(const stitch::Sparsification& curve, const std::st
               cv::FONT_HERSHEY_SIMPLEX, 0.42, black, 1, cv::LINE_AA);
   cv::putText(canvas,
               format("MAE, 1/m (all %.4f; ", curve.mae.front()) +
-                  format("80 %% most confident %.4f)", curve.mae_at_80),
+                  format("80 %% most confident %.4f, ", curve.mae_at_80) +
+                  format("oracle's %.4f)", curve.oracle_at_80),
               {area.x + 5, area.y + area.height - 8}, cv::FONT_HERSHEY_SIMPLEX, 0.42, black, 1,
               cv::LINE_AA);
   Rgb8Image out(width, height);
