@@ -124,9 +124,9 @@ void vr_frame(gpu::Context& context, bool json) {
 // omnisweep-process submits them (one submission, depth staying on the GPU); the first also
 // computes what is kept for a calibration and pose (the inpainting directions), which a stream
 // does once.
-void record_frame(gpu::Context& context, const depth::DepthOptions& options,
+void record_frame(gpu::Context& context, const synthetic::SyntheticRig& rig,
+                  const std::vector<Rgb8Image>& images, const depth::DepthOptions& options,
                   const stitch::StitchOptions& stitch_options, gpu::CommandLog& log) {
-  const synthetic::SyntheticRig rig;
   const Rig& full_rig = rig.rig();
   const Rig matching_rig = full_rig.resized(options.matching_width, options.matching_height);
   std::vector<std::optional<Gray8Image>> masks;
@@ -135,12 +135,10 @@ void record_frame(gpu::Context& context, const depth::DepthOptions& options,
   depth::DepthEstimator estimator(context, matching_rig, masks, options);
   stitch::Stitcher stitcher(context, matching_rig, full_rig, options.references, masks,
                             stitch_options);
-  synthetic::SyntheticFrame frame = rig.render(0, 8, 4);
-  std::vector<Rgb8Image> images;
-  for (auto& camera : frame.cameras) images.push_back(std::move(camera.rgb));
-
   const auto matching = depth::matching_images(images, options);
-  const auto color = depth::reference_color_images(images, full_rig, options.references);
+  std::vector<Rgb8Image> own;  // reference_color_images takes the references' images
+  for (const Rgb8Image& image : images) own.push_back(image.clone());
+  const auto color = depth::reference_color_images(own, full_rig, options.references);
   pipeline::GpuFrame gpu_frame(context, estimator, stitcher);
   // With the photometric correction, its fit (on the host, not recorded) and its dispatch (the
   // frame's first, recorded), as omnisweep-process runs it.
@@ -213,8 +211,14 @@ void model_section(gpu::Context& context, depth::DepthOptions options, double pl
     stitch_options.panorama_width = 2 * resolution;
     stitch_options.panorama_height = resolution;
   }
+  // One rendered frame of the synthetic rig for both recordings (rendering it is most of the
+  // section's host time, under the sanitizers most of all).
+  const synthetic::SyntheticRig rig;
+  synthetic::SyntheticFrame frame = rig.render(0, 8, 4);
+  std::vector<Rgb8Image> images;
+  for (auto& camera : frame.cameras) images.push_back(std::move(camera.rgb));
   gpu::CommandLog log;
-  record_frame(context, options, stitch_options, log);
+  record_frame(context, rig, images, options, stitch_options, log);
 
   const std::string frame_name = std::to_string(options.matching_width) + "^2 matching, " +
                                  std::to_string(options.num_candidates) + " candidates, " +
@@ -235,7 +239,7 @@ void model_section(gpu::Context& context, depth::DepthOptions options, double pl
     paper_stitch.plane_fill = 0;
     paper_stitch.region_planes = false;
     gpu::CommandLog paper_log;
-    record_frame(context, paper_options, paper_stitch, paper_log);
+    record_frame(context, rig, images, paper_options, paper_stitch, paper_log);
     print_against_paper(log, paper_log, json);
   }
   vr_frame(context, json);
