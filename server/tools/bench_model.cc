@@ -23,6 +23,7 @@
 #include "server/pipeline/gpu_frame.h"
 #include "server/stitch/stitcher.h"
 #include "server/synthetic/synthetic_rig.h"
+#include "server/tools/depth_flags.h"
 
 namespace omnisweep::tools {
 namespace {
@@ -153,14 +154,13 @@ void record_frame(gpu::Context& context, const synthetic::SyntheticRig& rig,
   }
 }
 
-// Whether the options are the paper's method (every variant a method sets at its paper value).
-bool is_paper(const depth::DepthOptions& options, const stitch::StitchOptions& stitch_options) {
-  depth::DepthOptions paper = options;
-  depth::apply_method("paper", paper);
-  return options.cost == paper.cost && options.correct_photometry == paper.correct_photometry &&
-         options.match_cameras == paper.match_cameras &&
-         options.confident_sigma_s == paper.confident_sigma_s && options.sigma_s == paper.sigma_s &&
-         stitch_options.plane_fill == 0 && !stitch_options.region_planes;
+// Whether two settings agree in every variant that a method sets (depth::Method).
+bool same_variants(const depth::DepthOptions& a, const stitch::StitchOptions& a_stitch,
+                   const depth::DepthOptions& b, const stitch::StitchOptions& b_stitch) {
+  return a.cost == b.cost && a.correct_photometry == b.correct_photometry &&
+         a.match_cameras == b.match_cameras && a.confident_sigma_s == b.confident_sigma_s &&
+         a.sigma_s == b.sigma_s && a_stitch.plane_fill == b_stitch.plane_fill &&
+         a_stitch.region_planes == b_stitch.region_planes;
 }
 
 // The frame's predicted time over the paper's frame's, per device, side by side: the time
@@ -232,12 +232,13 @@ void model_section(gpu::Context& context, depth::DepthOptions options, double pl
   }
   print_log(log, "model", "Frame cost model: a frame as the estimator and stitcher record it",
             frame_name, json);
-  if (!is_paper(options, stitch_options)) {
-    depth::DepthOptions paper_options = options;
-    depth::apply_method("paper", paper_options);
-    stitch::StitchOptions paper_stitch = stitch_options;
-    paper_stitch.plane_fill = 0;
-    paper_stitch.region_planes = false;
+  // The paper's method on the same frame (the method table's settings, as --method paper sets
+  // them).
+  depth::DepthOptions paper_options = options;
+  stitch::StitchOptions paper_stitch = stitch_options;
+  apply_method(*depth::method_named("paper"), paper_options,
+               {&paper_stitch.plane_fill, &paper_stitch.region_planes});
+  if (!same_variants(options, stitch_options, paper_options, paper_stitch)) {
     gpu::CommandLog paper_log;
     record_frame(context, rig, images, paper_options, paper_stitch, paper_log);
     print_against_paper(log, paper_log, json);
