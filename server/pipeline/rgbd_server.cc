@@ -87,6 +87,7 @@ struct RgbdServer::Stages {
                                        .max_distance = o.depth.max_distance,
                                        .plane_fill = o.plane_fill,
                                        .region_planes = o.region_planes,
+                                       .edge_check = o.edge_check,
                                        .temporal = o.temporal}),
         gpu_frame(context, estimator, stitcher),
         distance_codec(codec::make_distance_codec(codec::kQinv16Zstd)),

@@ -54,6 +54,8 @@ struct ServerOptions {
   double plane_fill = 0.0;
   // The region planes (StitchOptions::region_planes, stitch/region_planes.h); off by default.
   bool region_planes = false;
+  // The edge check (StitchOptions::edge_check, stitch/edge_check.h); off by default.
+  bool edge_check = false;
   // A temporal filter on the distance (stitch/temporal_filter.h); none by default.
   std::optional<stitch::TemporalOptions> temporal;
   bool exit_on_source_end = false;  // else a stalled or ended source is reported and retried

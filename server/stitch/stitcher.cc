@@ -130,6 +130,9 @@ Stitcher::Stitcher(gpu::Context& context, const Rig& matching_rig, const Rig& co
     region_planes_.emplace(context, options.panorama_width, options.panorama_height,
                            RegionPlaneParams::for_width(options.panorama_width),
                            options.min_distance, options.max_distance);
+  if (options.edge_check)
+    edge_check_.emplace(context, options.panorama_width, options.panorama_height,
+                        EdgeCheckParams::for_width(options.panorama_width));
   if (options.temporal)
     temporal_.emplace(context, options.panorama_width, options.panorama_height, *options.temporal);
   gpu_bytes_ = context.allocated_bytes() - allocated_before_;
@@ -257,6 +260,11 @@ void Stitcher::record(gpu::Sequence& seq, const gpu::Buffer& distance,
     seq.barrier();
     seq.begin_stage("region planes");
     region_planes_->record(seq, out_distance_, out_confidence_);
+  }
+  if (edge_check_ && confidence) {
+    seq.barrier();
+    seq.begin_stage("edge check");
+    edge_check_->record(seq, out_color_, out_distance_, out_confidence_);
   }
   if (temporal_) {
     seq.barrier();

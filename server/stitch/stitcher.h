@@ -13,6 +13,7 @@
 
 #include "omnisweep/reproject/forward_warp.h"
 #include "omnisweep/rig/rig.h"
+#include "server/stitch/edge_check.h"
 #include "server/stitch/plane_fill.h"
 #include "server/stitch/region_planes.h"
 #include "server/stitch/temporal_filter.h"
@@ -39,6 +40,10 @@ struct StitchOptions {
   // RANSAC finds on its confident rim, where they surround the pixel; after the plane fill. Off
   // by default (ALGORITHM.md). Needs the cost confidences, as the plane fill.
   bool region_planes = false;
+  // The edge check (edge_check.h): the confidence near a depth step without a colour step, a
+  // distance the filter carried across a plain surface, times 0.1; after the fills. Off by
+  // default (ALGORITHM.md). Needs the cost confidences, as the plane fill.
+  bool edge_check = false;
   // A temporal filter on the panorama's distance (temporal_filter.h) for streams: each frame
   // then depends on the ones before it. None by default.
   std::optional<TemporalOptions> temporal;
@@ -119,6 +124,7 @@ class Stitcher {
   std::optional<PlaneFill> plane_fill_;
   std::optional<gpu::Buffer> merged_distance_;  // the merge's distances, with the plane fill
   std::optional<RegionPlanes> region_planes_;
+  std::optional<EdgeCheck> edge_check_;
   std::optional<TemporalFilter> temporal_;
   gpu::Sequence sequence_;
   std::uint64_t gpu_bytes_ = 0;

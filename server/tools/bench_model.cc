@@ -154,13 +154,15 @@ void record_frame(gpu::Context& context, const synthetic::SyntheticRig& rig,
   }
 }
 
-// Whether two settings agree in every variant that a method sets (depth::Method).
+// Whether two settings agree in every variant that a method sets (depth::Method), and in the
+// edge check.
 bool same_variants(const depth::DepthOptions& a, const stitch::StitchOptions& a_stitch,
                    const depth::DepthOptions& b, const stitch::StitchOptions& b_stitch) {
   return a.cost == b.cost && a.correct_photometry == b.correct_photometry &&
          a.match_cameras == b.match_cameras && a.confident_sigma_s == b.confident_sigma_s &&
          a.sigma_s == b.sigma_s && a_stitch.plane_fill == b_stitch.plane_fill &&
-         a_stitch.region_planes == b_stitch.region_planes;
+         a_stitch.region_planes == b_stitch.region_planes &&
+         a_stitch.edge_check == b_stitch.edge_check;
 }
 
 // The frame's predicted time over the paper's frame's, per device, side by side: the time
@@ -202,10 +204,11 @@ double predicted_xavier_ms(const gpu::CommandLog& log) {
 }
 
 void model_section(gpu::Context& context, depth::DepthOptions options, double plane_fill,
-                   bool region_planes, int resolution, bool json) {
+                   bool region_planes, bool edge_check, int resolution, bool json) {
   stitch::StitchOptions stitch_options;
   stitch_options.plane_fill = plane_fill;
   stitch_options.region_planes = region_planes;
+  stitch_options.edge_check = edge_check;
   if (resolution > 0) {
     options.matching_width = options.matching_height = resolution;
     stitch_options.panorama_width = 2 * resolution;
@@ -233,9 +236,10 @@ void model_section(gpu::Context& context, depth::DepthOptions options, double pl
   print_log(log, "model", "Frame cost model: a frame as the estimator and stitcher record it",
             frame_name, json);
   // The paper's method on the same frame (the method table's settings, as --method paper sets
-  // them).
+  // them; no edge check, which no method sets).
   depth::DepthOptions paper_options = options;
   stitch::StitchOptions paper_stitch = stitch_options;
+  paper_stitch.edge_check = false;
   apply_method(*depth::method_named("paper"), paper_options,
                {&paper_stitch.plane_fill, &paper_stitch.region_planes});
   if (!same_variants(options, stitch_options, paper_options, paper_stitch)) {

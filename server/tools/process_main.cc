@@ -7,7 +7,9 @@
 // printed and drawn in sparsification_<frame>.png. --temporal filters the distance over the
 // frames in order (a stream's filter); with --evaluate, the flicker between consecutive frames
 // (the mean |change of inverse distance| where the truth did not change) is printed too.
-// --region-planes refits the unconfident regions' distances (stitch/region_planes.h).
+// --region-planes refits the unconfident regions' distances (stitch/region_planes.h);
+// --edge-check lowers the confidence of distances carried across plain surfaces
+// (stitch/edge_check.h).
 #include <CLI/CLI.hpp>
 #include <chrono>
 #include <cstdio>
@@ -58,7 +60,7 @@ int run(int argc, char** argv) {
   bool evaluate = false, json = false;
   std::optional<stitch::TemporalOptions> temporal;
   double plane_fill = 0.0;
-  bool region_planes = false;
+  bool region_planes = false, edge_check = false;
   app.add_option("--dataset", dataset_dir, "Dataset in the reference layout")->required();
   app.add_option("--output", output_dir, "Folder for the panoramas (created if missing)")
       ->required();
@@ -70,6 +72,7 @@ int run(int argc, char** argv) {
   tools::add_depth_flags(app, options, device, {&plane_fill, &region_planes});
   tools::add_plane_fill_flag(app, plane_fill);
   tools::add_region_planes_flag(app, region_planes);
+  tools::add_edge_check_flag(app, edge_check);
   tools::add_temporal_flags(app, temporal);
   CLI11_PARSE(app, argc, argv);
 
@@ -112,6 +115,7 @@ int run(int argc, char** argv) {
   stitch_options.temporal = temporal;
   stitch_options.plane_fill = plane_fill;
   stitch_options.region_planes = region_planes;
+  stitch_options.edge_check = edge_check;
   stitch::Stitcher stitcher(context, matching_rig, color_rig, options.references, masks,
                             stitch_options);
   pipeline::GpuFrame gpu_frame(context, estimator, stitcher);

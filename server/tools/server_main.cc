@@ -76,6 +76,7 @@ int run(int argc, char** argv) {
       ->check(tools::not_negative());
   tools::add_plane_fill_flag(app, options.plane_fill);
   tools::add_region_planes_flag(app, options.region_planes);
+  tools::add_edge_check_flag(app, options.edge_check);
   tools::add_temporal_flags(app, options.temporal);
   app.add_flag("--confidence", options.confidence,
                "Also publish each frame's distance confidence (8-bit, conf8-zstd) on "

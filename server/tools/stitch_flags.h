@@ -1,6 +1,6 @@
 // Command-line flags shared by the programs that stitch panoramas (omnisweep-process,
-// omnisweep-server): the panorama's size, colour resolution and centre, the plane fill and the
-// temporal filter.
+// omnisweep-server): the panorama's size, colour resolution and centre, the plane fill, the region
+// planes, the edge check and the temporal filter.
 #pragma once
 
 #include <CLI/CLI.hpp>
@@ -60,6 +60,14 @@ inline void add_region_planes_flag(CLI::App& app, bool& region_planes) {
                "planes RANSAC finds among the confident pixels on its rim and in its holes, where "
                "they surround the pixel (after the plane fill; default: the --method's; "
                "docs/accuracy.md)");
+}
+
+// --edge-check into `edge_check` (StitchOptions::edge_check, stitch/edge_check.h).
+inline void add_edge_check_flag(CLI::App& app, bool& edge_check) {
+  app.add_flag("--edge-check,!--no-edge-check", edge_check,
+               "Lower the confidence (times 0.1) within about 24 pixels of a depth step that has "
+               "no colour step, where the filter carried a distance across a plain surface; the "
+               "distances do not change (after the fills; default off; docs/accuracy.md)");
 }
 
 // --temporal (the filter with its defaults) and --temporal-frames N, into `temporal`.
