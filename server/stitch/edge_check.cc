@@ -55,8 +55,15 @@ EdgeCheckParams EdgeCheckParams::for_width(int width) {
   return p;
 }
 
+void EdgeCheckParams::check() const {
+  if (block < 1 || reach < 0 || !(step > 0) || !(color > 0) || !(factor >= 0 && factor <= 1))
+    throw std::invalid_argument(
+        "edge check: needs block >= 1, reach >= 0, step > 0, color > 0 and factor in [0, 1]");
+}
+
 FloatImage edge_check_cpu(const Rgb8Image& rgb, const FloatImage& distance,
                           const FloatImage& confidence, const EdgeCheckParams& params) {
+  params.check();
   const int w = distance.width(), h = distance.height();
   if (rgb.width() != w || rgb.height() != h || confidence.width() != w || confidence.height() != h)
     throw std::invalid_argument("edge check: colour, distance and confidence differ in size");
@@ -67,17 +74,18 @@ FloatImage edge_check_cpu(const Rgb8Image& rgb, const FloatImage& distance,
     for (int x = 0; x < w; ++x)
       if (distance(x, y) > 0.0f && carried(rgb, distance, p, x, y))
         marks[std::size_t(y / p.block) * nx + x / p.block] = 1;
-  FloatImage out = confidence.clone();
-  for (int y = 0; y < h; ++y) {
-    for (int x = 0; x < w; ++x) {
-      const int bx = x / p.block, by = y / p.block;
-      bool near = false;
+  // Per block, whether a marked block lies within reach (edge_check.comp asks it per pixel).
+  std::vector<char> near(marks.size(), 0);
+  for (int by = 0; by < ny; ++by)
+    for (int bx = 0; bx < nx; ++bx)
       for (int yy = std::max(0, by - p.reach); yy <= std::min(ny - 1, by + p.reach); ++yy)
         for (int dx = -p.reach; dx <= p.reach; ++dx)
-          near = near || marks[std::size_t(yy) * nx + ((bx + dx) % nx + nx) % nx] != 0;
-      if (near) out(x, y) *= p.factor;
-    }
-  }
+          near[std::size_t(by) * nx + bx] |=
+              marks[std::size_t(yy) * nx + ((bx + dx) % nx + nx) % nx];
+  FloatImage out = confidence.clone();
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x)
+      if (near[std::size_t(y / p.block) * nx + x / p.block]) out(x, y) *= p.factor;
   return out;
 }
 
@@ -91,10 +99,7 @@ EdgeCheck::EdgeCheck(gpu::Context& context, int width, int height, const EdgeChe
                     {.bindings = {1, 1, 1}, .push_constant_bytes = sizeof(EdgePush)}),
       apply_(context, gpu::Shader::kEdgeCheck,
              {.bindings = {1, 1}, .push_constant_bytes = sizeof(EdgePush)}) {
-  if (params.block < 1 || params.reach < 0 || !(params.step > 0) || !(params.color > 0) ||
-      !(params.factor >= 0 && params.factor <= 1))
-    throw std::invalid_argument(
-        "edge check: needs block >= 1, reach >= 0, step > 0, color > 0 and factor in [0, 1]");
+  params.check();
 }
 
 void EdgeCheck::record(gpu::Sequence& seq, const gpu::Buffer& color, const gpu::Buffer& distance,

@@ -30,11 +30,14 @@ struct EdgeCheckParams {
   double factor = 0.1;
   // For a panorama `width` pixels wide: the block scaled from 2048 pixels (at least 1).
   static EdgeCheckParams for_width(int width);
+  // Throws std::invalid_argument naming what is out of range.
+  void check() const;
 };
 
 // `confidence` after the check, as edge_marks.comp and edge_check.comp make it: `rgb` the
 // panorama's colour, `distance` its distances (metres, 0 = none; pixels without one neither mark
 // nor count as a neighbour). Columns wrap around (the panorama is 360 degrees), rows do not.
+// Throws std::invalid_argument on bad params or sizes that differ.
 FloatImage edge_check_cpu(const Rgb8Image& rgb, const FloatImage& distance,
                           const FloatImage& confidence, const EdgeCheckParams& params);
 

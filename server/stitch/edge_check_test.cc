@@ -120,6 +120,7 @@ TEST_F(EdgeCheckTest, NamesABadSetting) {
   bad.factor = 1.5;
   EXPECT_THROW(EdgeCheck(context(), kW, kH, bad), std::invalid_argument);
   const Scene s = make_scene();
+  EXPECT_THROW(edge_check_cpu(s.color, s.distance, s.confidence, bad), std::invalid_argument);
   EXPECT_THROW(edge_check_cpu(s.color, FloatImage(kW / 2, kH), s.confidence, EdgeCheckParams()),
                std::invalid_argument);
 }
