@@ -1,5 +1,6 @@
 #include "server/depth/gpu_photometric_correction.h"
 
+#include <Eigen/Core>
 #include <array>
 #include <numeric>
 #include <stdexcept>
@@ -45,13 +46,16 @@ GpuPhotometricCorrection::GpuPhotometricCorrection(gpu::Context& context, const 
                .push_constant_bytes = sizeof(CorrectionPush),
                .local_size = {8, 8, 1},
                .constants = {}}),
-      angles_(context, std::uint64_t(width_) * height_ * 4 * cameras_.size()),
+      angles_(context, (std::uint64_t(width_) * height_ * cameras_.size() + 1) / 2 * 4),
       responses_(context, sizeof(float) * 8 * cameras_.size()) {
-  // Only these cameras' tables: a colour rig's other cameras are not corrected here.
-  const std::uint64_t bytes = std::uint64_t(width_) * height_ * 4;
-  for (std::size_t k = 0; k < cameras_.size(); ++k)
-    angles_.upload(vignetting_angles(rig.cameras[std::size_t(cameras_[k])]).data(), bytes,
-                   k * bytes);
+  // Only these cameras' tables: a colour rig's other cameras are not corrected here. Stored as
+  // 16-bit floats, two to a uint (vignetting_angles has rounded them so already).
+  std::vector<Eigen::half> halves;
+  halves.reserve(std::size_t(angles_.size() / 2));
+  for (const int c : cameras_)
+    for (const float t2 : vignetting_angles(rig.cameras[std::size_t(c)])) halves.emplace_back(t2);
+  if (halves.size() % 2 != 0) halves.emplace_back(-1.0f);
+  angles_.upload(halves.data(), halves.size() * sizeof(Eigen::half));
 }
 
 void GpuPhotometricCorrection::record(gpu::Sequence& seq, gpu::Buffer& images,

@@ -193,7 +193,7 @@ std::vector<float> vignetting_angles(const RigCamera& cam) {
       Eigen::Vector3d ray;
       if (!cam.model.unproject(Eigen::Vector2d(u, v), &ray)) continue;
       const double t = std::acos(std::clamp(ray.normalized().z(), -1.0, 1.0)) / kReferenceAngle;
-      t2[std::size_t(v) * cam.width + u] = float(t * t);
+      t2[std::size_t(v) * cam.width + u] = float(Eigen::half(float(t * t)));
     }
   }
   return t2;

@@ -51,7 +51,8 @@ PhotometryFit estimate_photometry(const Rig& rig, std::span<const Rgb8View> imag
                                   const PhotometryOptions& options = {});
 
 // One camera's (theta / 110 deg)^2 per pixel, pixel after pixel, -1 where it has no ray: the
-// variable of V, for PhotometricCorrection and GpuPhotometricCorrection.
+// variable of V, for PhotometricCorrection and GpuPhotometricCorrection. Rounded to 16-bit
+// floats, as the GPU stores them (half the table's bytes each frame; a change of V below 1e-3).
 std::vector<float> vignetting_angles(const RigCamera& camera);
 
 // Undoes the responses of a fit: every pixel divided by its camera's gain and vignetting (and
