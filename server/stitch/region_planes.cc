@@ -72,7 +72,7 @@ struct Region {
   std::vector<Vec3f> planes;
 };
 
-// Step 4 (region_hypotheses.comp, region_refit.comp): sequential RANSAC over the region's sample.
+// Step 4 (region_ransac_step.comp): sequential RANSAC over the region's sample.
 void find_planes(Region& r, const RegionPlaneParams& p) {
   const int n = int(r.rays.size());
   r.tag.assign(n, -1);

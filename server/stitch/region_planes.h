@@ -43,7 +43,7 @@
 
 namespace omnisweep::stitch {
 
-// Fixed by the kernels' shared memory (region_refit.comp, region_sample.comp).
+// Fixed by the kernels' shared memory (region_ransac_step.comp, region_sample.comp).
 constexpr int kRegionPlaneSample = 1024;      // supports per region, at most
 constexpr int kRegionPlaneCandidates = 2048;  // candidates the sample is sorted from, at most
 constexpr int kRegionPlaneMaxRegions = 16;
@@ -100,13 +100,13 @@ class RegionPlanes {
   gpu::Buffer histogram_;   // per region, 256 bins of the supports' hashes
   gpu::Buffer candidates_;  // per region, kRegionPlaneCandidates (hash, block)
   gpu::Buffer sample_;      // per region, kRegionPlaneSample (ray, v)
-  gpu::Buffer alive_;       // per region, the sample's supports not yet an inlier
+  gpu::Buffer alive_;       // per region, the sample's supports not yet an inlier (two lists)
   gpu::Buffer tags_;        // per region and support, the plane it is an inlier of
-  gpu::Buffer scores_;      // per region and draw, (a, score)
+  gpu::Buffer scores_;      // per region and draw, (a, score) (two planes')
   gpu::Buffer planes_;      // per region, kRegionPlaneMaxPlanes planes
   gpu::Buffer surround_;    // per block: the planes that surround it (bits), its region
   gpu::Kernel blocks_kernel_, merge_, flatten_, number_, support_, threshold_, sample_kernel_,
-      hypotheses_, refit_, surround_kernel_, apply_;
+      step_, surround_kernel_, apply_;
 };
 
 }  // namespace omnisweep::stitch

@@ -57,13 +57,13 @@ RegionPlanes::RegionPlanes(gpu::Context& context, int width, int height,
       parent_(context, std::uint64_t(blocks_x_) * blocks_y_ * 4),
       sizes_(context, std::uint64_t(blocks_x_) * blocks_y_ * 4),
       slots_(context, std::uint64_t(blocks_x_) * blocks_y_ * 4),
-      regions_(context, 4 * (4 + 8 * std::uint64_t(kRegionPlaneMaxRegions))),
+      regions_(context, 4 * (4 + 9 * std::uint64_t(kRegionPlaneMaxRegions))),
       histogram_(context, std::uint64_t(params.max_regions) * 256 * 4),
       candidates_(context, 8 * std::uint64_t(kRegionPlaneCandidates) * params.max_regions),
       sample_(context, 16 * std::uint64_t(kRegionPlaneSample) * params.max_regions),
-      alive_(context, 4 * std::uint64_t(kRegionPlaneSample) * params.max_regions),
+      alive_(context, std::uint64_t(kRegionPlaneSample) * params.max_regions * 4 * 2),
       tags_(context, 4 * std::uint64_t(kRegionPlaneSample) * params.max_regions),
-      scores_(context, 16 * std::uint64_t(params.draws) * params.max_regions),
+      scores_(context, std::uint64_t(params.draws) * params.max_regions * 16 * 2),
       planes_(context, 16 * std::uint64_t(kRegionPlaneMaxPlanes) * params.max_regions),
       surround_(context, std::uint64_t(blocks_x_) * blocks_y_ * 8),
       blocks_kernel_(context, gpu::Shader::kRegionBlocks, layout(5, kPerBlock)),
@@ -75,8 +75,7 @@ RegionPlanes::RegionPlanes(gpu::Context& context, int width, int height,
                  layout(2, {std::uint32_t(kRegionPlaneMaxRegions), 1, 1})),
       sample_kernel_(context, gpu::Shader::kRegionSample,
                      layout(7, {std::uint32_t(kRegionPlaneCandidates / 2), 1, 1})),
-      hypotheses_(context, gpu::Shader::kRegionHypotheses, layout(4, {64, 1, 1})),
-      refit_(context, gpu::Shader::kRegionRefit, layout(6, {256, 1, 1})),
+      step_(context, gpu::Shader::kRegionRansacStep, layout(6, {256, 1, 1})),
       surround_kernel_(context, gpu::Shader::kRegionSurround, layout(7, kPerBlock)),
       apply_(context, gpu::Shader::kRegionApply, layout(5, {16, 16, 1})) {
   if (width < 1 || height < 1)
@@ -134,13 +133,11 @@ void RegionPlanes::record(gpu::Sequence& seq, gpu::Buffer& distance,
   seq.dispatch(sample_kernel_, {blocks_, regions_, candidates_, table_, sample_, alive_, tags_},
                push, {regions, 1, 1});
   seq.barrier();
-  for (int k = 0; k < p.max_planes; ++k) {
+  // Plane k's draws scored, plane k - 1 concluded, in one dispatch (region_ransac_step.comp).
+  for (int k = 0; k <= p.max_planes; ++k) {
     push.plane = k;
-    seq.dispatch(hypotheses_, {regions_, sample_, alive_, scores_}, push,
-                 hypotheses_.groups_for(std::uint32_t(p.draws), regions));
-    seq.barrier();
-    seq.dispatch(refit_, {regions_, sample_, alive_, tags_, scores_, planes_}, push,
-                 {regions, 1, 1});
+    seq.dispatch(step_, {regions_, sample_, alive_, tags_, scores_, planes_}, push,
+                 step_.groups_for(std::uint32_t(p.draws), regions));
     seq.barrier();
   }
   seq.dispatch(surround_kernel_, {parent_, slots_, regions_, sample_, tags_, table_, surround_},

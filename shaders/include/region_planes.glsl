@@ -22,7 +22,7 @@ layout(push_constant) uniform Push {
   float tau;
   float inv_d_min;
   float inv_d_max;
-  int plane;  // region_hypotheses, region_refit: the plane being found
+  int plane;  // region_ransac_step: the plane being found
   int phase;  // region_support: 0 counts the supports, 1 collects the sample's candidates
 } push;
 
@@ -34,15 +34,16 @@ const int kNearRegions = 8;    // region_math::kNearRegions
 
 // The regions' records (uint regions[]): [0] the count; region l at kHeader + l * kRecord.
 const int kHeader = 4;
-const int kRecord = 8;
+const int kRecord = 9;
 const int kRoot = 0;       // its first block
 const int kSupports = 1;   // support entries before sampling
 const int kLastBin = 2;    // the last hash bin sampled (int; -1: none)
 const int kCollected = 3;  // candidates collected
 const int kSampled = 4;    // supports in the sample
 const int kPlanes = 5;     // planes found
-const int kAlive = 6;      // supports of the sample not yet an inlier
+const int kAlive = 6;      // supports of the sample not yet an inlier (even planes' list)
 const int kDone = 7;       // 1 once no further plane is found
+const int kAliveOdd = 8;   // the same for the odd planes' list (region_ransac_step.comp)
 int field(int region, int f) { return kHeader + region * kRecord + f; }
 
 #ifdef REGION_RAYS
