@@ -1,17 +1,18 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
 // Region planes, step 4 (server/stitch/region_planes.h): one dispatch per plane of the sequential
-// RANSAC, push.plane = k from 0 to max_planes, kWorkgroups workgroups per region, each scoring its
-// share of the draws. Dispatch k first concludes plane k - 1 from the previous dispatch's scores:
-// the best draw (the highest score, the first of equals), unless it has too few inliers (then the
-// region is done), refitted three times by least squares on its inliers (Cramer's rule on the
-// normal equations), its inliers taken off the alive list, which keeps its order. Every workgroup
-// of the region does this, the same arithmetic on the same data (so the scoring needs no second
-// dispatch); the first also tags the inliers with the plane and writes it out. Then, unless
-// k = max_planes, each of its invocations scores one draw of plane k: the plane through three
-// alive supports drawn by draw_hash, MSAC over every alive support in order (-1 where the three
-// are degenerate). Plane k's alive list and scores live in half k % 2 of their buffers, so a
-// dispatch reads one half and writes the other. region_planes_cpu is the CPU check.
+// RANSAC, push.plane = k from 0 to max_planes, with draws / 256 workgroups per region (rounded
+// up), each scoring its share of the draws. Dispatch k first concludes plane k - 1 from the
+// previous dispatch's scores: the best draw (the highest score, the first of equals), unless it
+// has too few inliers (then the region is done), refitted three times by least squares on its
+// inliers (Cramer's rule on the normal equations), its inliers taken off the alive list, which
+// keeps its order. Every workgroup of the region does this, the same arithmetic on the same data
+// (so the scoring needs no second dispatch); the first also tags the inliers with the plane and
+// writes it out. Then, unless k = max_planes, each of its invocations scores one draw of plane k:
+// the plane through three alive supports drawn by draw_hash, MSAC over every alive support in
+// order (-1 where the three are degenerate). Plane k's alive list and scores live in half k % 2
+// of their buffers, so a dispatch reads one half and writes the other. region_planes_cpu is the
+// CPU check.
 layout(local_size_x_id = 100, local_size_y_id = 101, local_size_z_id = 102) in;
 
 layout(std430, set = 0, binding = 0) buffer Regions { uint regions[]; };
