@@ -40,6 +40,11 @@ gpu::KernelLayout layout(std::uint32_t buffers, std::array<std::uint32_t, 3> loc
 
 constexpr std::array<std::uint32_t, 3> kPerBlock = {8, 8, 1};
 
+// The regions' records, in uints: region_planes.glsl's kHeader and kRecord (keep in step).
+constexpr std::uint64_t kRegionsHeader = 4, kRegionRecord = 9;
+// region_ransac_step.comp keeps consecutive planes' alive lists and scores in two halves.
+constexpr std::uint64_t kRansacHalves = 2;
+
 }  // namespace
 
 RegionPlanes::RegionPlanes(gpu::Context& context, int width, int height,
@@ -57,13 +62,13 @@ RegionPlanes::RegionPlanes(gpu::Context& context, int width, int height,
       parent_(context, std::uint64_t(blocks_x_) * blocks_y_ * 4),
       sizes_(context, std::uint64_t(blocks_x_) * blocks_y_ * 4),
       slots_(context, std::uint64_t(blocks_x_) * blocks_y_ * 4),
-      regions_(context, 4 * (4 + 9 * std::uint64_t(kRegionPlaneMaxRegions))),
+      regions_(context, 4 * (kRegionsHeader + kRegionRecord * kRegionPlaneMaxRegions)),
       histogram_(context, std::uint64_t(params.max_regions) * 256 * 4),
       candidates_(context, 8 * std::uint64_t(kRegionPlaneCandidates) * params.max_regions),
       sample_(context, 16 * std::uint64_t(kRegionPlaneSample) * params.max_regions),
-      alive_(context, std::uint64_t(kRegionPlaneSample) * params.max_regions * 4 * 2),
+      alive_(context, kRansacHalves * 4 * kRegionPlaneSample * params.max_regions),
       tags_(context, 4 * std::uint64_t(kRegionPlaneSample) * params.max_regions),
-      scores_(context, std::uint64_t(params.draws) * params.max_regions * 16 * 2),
+      scores_(context, kRansacHalves * 16 * params.draws * params.max_regions),
       planes_(context, 16 * std::uint64_t(kRegionPlaneMaxPlanes) * params.max_regions),
       surround_(context, std::uint64_t(blocks_x_) * blocks_y_ * 8),
       blocks_kernel_(context, gpu::Shader::kRegionBlocks, layout(5, kPerBlock)),
