@@ -160,6 +160,7 @@ DepthEstimator::DepthEstimator(gpu::Context& context, const Rig& rig,
       post_filter_(context, width_, height_, VolumeLayout{1, 1, false, int(slots())},
                    options.confident_sigma_s > 0),
       images_(context, std::uint64_t(width_) * height_ * 4 * rig.num_cameras()),
+      blurred_(context, options.match_blur > 0 ? images_.size() : 16),
       features_(context, options.cost == MatchingCost::kAbsoluteDifference
                              ? 16
                              : std::uint64_t(width_) * height_ * 4 * rig.num_cameras()),
@@ -173,6 +174,8 @@ DepthEstimator::DepthEstimator(gpu::Context& context, const Rig& rig,
       confidences_(context, std::uint64_t(width_) * height_ * sizeof(float) * slots()),
       agreement_blocks_(context, agreement_block_bytes(width_, height_, options, slots())),
       sequence_(context) {
+  if (options.match_blur > 0)
+    blur_.emplace(context, width_, height_, rig.num_cameras(), options.scaled_match_blur());
   if (usable.size() != std::size_t(rig.num_cameras()) && !usable.empty()) {
     throw std::invalid_argument("expected one mask (or none) per camera, got " +
                                 std::to_string(usable.size()));
@@ -247,14 +250,14 @@ void DepthEstimator::record_guides(gpu::Sequence& seq) {
   // The ratio cost's features also guide its filters: their edges are the ones it matched, and
   // the shading they normalise away would otherwise set the filter's range weights (on
   // blender-hall MAE 0.049 against 0.063 with the images' guide; docs/accuracy.md).
-  seq.dispatch(guide_kernel_, {image_texels(ratio_cost() ? features_ : images_), guide_}, push,
-               guide_kernel_.groups_for(width_, height_, slots()));
+  seq.dispatch(guide_kernel_, {image_texels(ratio_cost() ? features_ : matched_images()), guide_},
+               push, guide_kernel_.groups_for(width_, height_, slots()));
 }
 
 void DepthEstimator::record_features(gpu::Sequence& seq) {
   const bool ratio = ratio_cost();
   seq.dispatch(
-      features_kernel_, {image_texels(images_), features_, masks_},
+      features_kernel_, {image_texels(matched_images()), features_, masks_},
       FeaturesPush{std::uint32_t(width_), std::uint32_t(height_),
                    options_.scaled_radius(ratio ? options_.ratio_radius : options_.feature_radius),
                    options_.scaled_radius(options_.census_radius),
@@ -284,7 +287,7 @@ void DepthEstimator::record_group(gpu::Sequence& seq, int first, bool filter, bo
                   {}};
   set_references(sweep, options_.references);
   seq.dispatch(sweep_kernel_,
-               {cameras_, image_texels(robust_cost() ? features_ : images_), selections_,
+               {cameras_, image_texels(robust_cost() ? features_ : matched_images()), selections_,
                 volume_.binding(dummy_), confident_sigma() ? guide_ : dummy_},
                sweep, sweep_kernel_.groups_for(width_, height_, group));
   seq.barrier();
@@ -356,7 +359,17 @@ void DepthEstimator::record_post_filter(gpu::Sequence& seq) {
                        options_.scaled_confident_sigma_s() / 2});
 }
 
+void DepthEstimator::record_blur(gpu::Sequence& seq) {
+  if (!blur_) return;
+  blur_->record(seq, images_, blurred_);
+  seq.barrier();
+}
+
 void DepthEstimator::record(gpu::Sequence& seq) {
+  if (blur_) {
+    seq.begin_stage("match_blur");
+    record_blur(seq);
+  }
   seq.begin_stage("filter");
   if (robust_cost()) {  // the sweep's input (and the ratio's guides)
     record_features(seq);
@@ -425,6 +438,7 @@ std::vector<float> DepthEstimator::cost_volume(std::span<const Rgb8View> images,
   upload_images(images);
   const int first = slot / group_size() * group_size();
   sequence_.begin();
+  record_blur(sequence_);
   if (robust_cost()) {
     record_features(sequence_);
     sequence_.barrier();

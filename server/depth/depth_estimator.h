@@ -19,6 +19,7 @@
 #include "server/depth/cost_volume.h"
 #include "server/depth/depth_options.h"
 #include "server/depth/isb_filter.h"
+#include "server/depth/match_blur.h"
 
 namespace omnisweep::depth {
 
@@ -95,6 +96,10 @@ class DepthEstimator {
   // which leaves the full-resolution guides as the images gave them.
   bool winner_in_filter() const { return filter_.levels() >= 2; }
   bool confident_sigma() const { return options_.confident_sigma_s > 0; }
+  // The images the sweep, the guides and the features read: blurred where match_blur asks.
+  const gpu::Buffer& matched_images() const { return blur_ ? blurred_ : images_; }
+  // The blur of images_ into blurred_ and a barrier, where match_blur asks (else nothing).
+  void record_blur(gpu::Sequence& seq);
   std::uint32_t slots() const { return std::uint32_t(options_.references.size()); }
 
   gpu::Context* context_;
@@ -109,14 +114,16 @@ class DepthEstimator {
   gpu::Kernel features_kernel_;
   gpu::Kernel sweep_kernel_;
   gpu::Kernel wta_kernel_;
-  gpu::Kernel agreement_kernel_;  // the confidence's coarse agreement (coarse_agreement.comp)
-  CostVolume volume_;             // the full-resolution cost volumes of one group of references
-  IsbFilter filter_;              // their pyramid
-  IsbFilter post_filter_;         // one channel, every reference, for the distance maps
-  gpu::Buffer images_;            // RGBA8 per camera
-  gpu::Buffer features_;          // RGBA8 per camera: matching features (robust costs only)
-  gpu::Buffer masks_;             // usable masks, a byte per pixel (the ratio cost only)
-  gpu::Buffer guide_;             // per reference slot
+  gpu::Kernel agreement_kernel_;   // the confidence's coarse agreement (coarse_agreement.comp)
+  CostVolume volume_;              // the full-resolution cost volumes of one group of references
+  IsbFilter filter_;               // their pyramid
+  IsbFilter post_filter_;          // one channel, every reference, for the distance maps
+  gpu::Buffer images_;             // RGBA8 per camera
+  std::optional<MatchBlur> blur_;  // DepthOptions::match_blur > 0
+  gpu::Buffer blurred_;            // images_ blurred (match_blur only)
+  gpu::Buffer features_;           // RGBA8 per camera: matching features (robust costs only)
+  gpu::Buffer masks_;              // usable masks, a byte per pixel (the ratio cost only)
+  gpu::Buffer guide_;              // per reference slot
   gpu::Buffer dummy_;
   gpu::Buffer cameras_;           // per reference slot, every camera (reproject::pack_cameras)
   gpu::Buffer selections_;        // per reference slot

@@ -44,6 +44,10 @@ struct DepthOptions {
   // curves that already single out a distance need less of their neighbourhood
   // (docs/accuracy.md). 0: off, the paper's filter.
   double confident_sigma_s = 0;
+  // A Gaussian blur of this sigma (pixels at 1024 px, scaled with the matching width) over the
+  // matching images before the sweep, the guide and the matching features (match_blur.h;
+  // docs/accuracy.md). 0: off, the paper's. At most 8/3 pixels at the matching resolution.
+  double match_blur = 0;
   int matching_width = 1024;
   int matching_height = 1024;
   bool post_filter = true;  // step 6; off only to inspect the raw winner-takes-all
@@ -85,6 +89,7 @@ struct DepthOptions {
   // sigma_s at the matching resolution (ALGORITHM.md §3 step 4).
   double scaled_sigma_s() const { return sigma_s * matching_width / 1024.0; }
   double scaled_confident_sigma_s() const { return confident_sigma_s * matching_width / 1024.0; }
+  double scaled_match_blur() const { return match_blur * matching_width / 1024.0; }
   // 1 / d of fractional candidate index k (k = 0: d_min, k = N - 1: d_max).
   double inverse_distance(double k) const {
     return 1.0 / min_distance +

@@ -155,12 +155,13 @@ void record_frame(gpu::Context& context, const synthetic::SyntheticRig& rig,
 }
 
 // Whether two settings agree in every variant that a method sets (depth::Method), and in the
-// edge check.
+// edge check and the matching images' blur.
 bool same_variants(const depth::DepthOptions& a, const stitch::StitchOptions& a_stitch,
                    const depth::DepthOptions& b, const stitch::StitchOptions& b_stitch) {
   return a.cost == b.cost && a.correct_photometry == b.correct_photometry &&
          a.match_cameras == b.match_cameras && a.confident_sigma_s == b.confident_sigma_s &&
-         a.sigma_s == b.sigma_s && a_stitch.plane_fill == b_stitch.plane_fill &&
+         a.sigma_s == b.sigma_s && a.match_blur == b.match_blur &&
+         a_stitch.plane_fill == b_stitch.plane_fill &&
          a_stitch.region_planes == b_stitch.region_planes &&
          a_stitch.edge_check == b_stitch.edge_check;
 }
@@ -236,10 +237,11 @@ void model_section(gpu::Context& context, depth::DepthOptions options, double pl
   print_log(log, "model", "Frame cost model: a frame as the estimator and stitcher record it",
             frame_name, json);
   // The paper's method on the same frame (the method table's settings, as --method paper sets
-  // them; no edge check, which no method sets).
+  // them; no edge check and no blur of the matching images, which no method sets).
   depth::DepthOptions paper_options = options;
   stitch::StitchOptions paper_stitch = stitch_options;
   paper_stitch.edge_check = false;
+  paper_options.match_blur = 0;
   apply_method(*depth::method_named("paper"), paper_options,
                {&paper_stitch.plane_fill, &paper_stitch.region_planes});
   if (!same_variants(options, stitch_options, paper_options, paper_stitch)) {

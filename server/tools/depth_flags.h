@@ -104,6 +104,10 @@ inline void add_matching_cost_flags(CLI::App& app, depth::DepthOptions& options,
                  "Where the raw cost curves are confident, lower the ISB filter's spatial sigma "
                  "to this, at 1024 px (default 0: off, the paper's; docs/accuracy.md)")
       ->check(CLI::Range(0.0, 1e3));
+  app.add_option("--match-blur", options.match_blur,
+                 "Blur the matching images (not the colour) by a Gaussian of this sigma, pixels at "
+                 "1024 px, before the sweep (default 0: off, the paper's; docs/accuracy.md)")
+      ->check(CLI::Range(0.0, 2.5));
 }
 
 // The matching variants (add_matching_cost_flags, with `stitch`), --references, --candidates,

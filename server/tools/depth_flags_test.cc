@@ -111,6 +111,15 @@ TEST(DepthFlagsTest, AnUnknownMethodIsNamedWithTheChoices) {
   EXPECT_EQ(options.match_cameras, 1);
 }
 
+TEST(DepthFlagsTest, MatchBlurIsOffInEveryMethodAndTakesItsFlag) {
+  for (const depth::Method& method : depth::kMethods)
+    EXPECT_EQ(parsed({"--method", std::string(method.name)}).match_blur, 0.0) << method.name;
+  EXPECT_EQ(parsed({"--match-blur", "1.5"}).match_blur, 1.5);
+  EXPECT_EQ(parsed({"--match-blur", "1", "--method", "paper"}).match_blur, 1.0);
+  EXPECT_THROW(parsed({"--match-blur", "3"}), CLI::ValidationError);  // taps past 8 pixels
+  EXPECT_THROW(parsed({"--match-blur", "-1"}), CLI::ValidationError);
+}
+
 TEST(DepthFlagsTest, AMethodsFlagsComeFromItsTable) {
   EXPECT_EQ(depth::method_flags(depth::kMethods[0]), "");
   EXPECT_EQ(depth::method_flags(depth::kMethods[1]),
