@@ -47,6 +47,7 @@ struct Variant {
   double sigma_s = 0;            // DepthOptions::sigma_s; 0: the paper's
   bool region_planes = false;    // StitchOptions::region_planes
   bool edge_check = false;       // StitchOptions::edge_check
+  double match_blur = 0;         // DepthOptions::match_blur
 };
 
 constexpr Variant kVariants[] = {
@@ -81,6 +82,13 @@ constexpr Variant kVariants[] = {
     {"ad + correction, 2 cameras, confident 5, plane fill 0.05, sigma_s 20, region planes, edge "
      "check",
      depth::MatchingCost::kAbsoluteDifference, true, 2, 5, 0.05, 20, true, true},
+    // The matching images blurred first, with and without the region planes (docs/accuracy.md,
+    // "Matching blur").
+    {"ad + correction, 2 cameras, confident 5, plane fill 0.05, sigma_s 20, region planes, match "
+     "blur 1",
+     depth::MatchingCost::kAbsoluteDifference, true, 2, 5, 0.05, 20, true, false, 1.0},
+    {"ad + correction, 2 cameras, confident 5, plane fill 0.05, sigma_s 20, match blur 1",
+     depth::MatchingCost::kAbsoluteDifference, true, 2, 5, 0.05, 20, false, false, 1.0},
 };
 
 // The synthetic rig's frames, through realistic lenses or not, with Gaussian sensor noise of
@@ -157,6 +165,7 @@ Row run(gpu::Context& context, const AccuracySet& set, const Variant& variant,
   depth_options.correct_photometry = variant.correct_photometry;
   depth_options.match_cameras = variant.match_cameras;
   depth_options.confident_sigma_s = variant.confident_sigma_s;
+  depth_options.match_blur = variant.match_blur;
   if (variant.sigma_s > 0) depth_options.sigma_s = variant.sigma_s;
   if (options.resolution > 0)
     depth_options.matching_width = depth_options.matching_height = options.resolution;
