@@ -19,7 +19,7 @@ layout(push_constant) uniform Push {
 } push;
 
 const uint kTile = 16u;  // the workgroup (set by the host)
-const uint kMaxRadius = 8u;
+const uint kMaxRadius = 8u;  // kMatchBlurMaxRadius (server/depth/depth_options.h)
 const uint kSpan = kTile + 2u * kMaxRadius;
 shared uint pixels[kSpan * kSpan];      // the tile and its rim, packed RGBA8
 shared vec3 rows[kSpan * kTile];        // after the row pass: kSpan rows of kTile columns

@@ -82,10 +82,11 @@ void DepthOptions::check(int num_cameras) const {
   if (!(match_blur >= 0) || !std::isfinite(match_blur))
     fail("match-blur: " + std::to_string(match_blur) +
          " must be 0 (off) or a positive number of pixels");
-  if (match_blur > 0 && std::ceil(3.0 * scaled_match_blur()) > 8.0) {
+  if (match_blur > 0 && std::ceil(3.0 * scaled_match_blur()) > kMatchBlurMaxRadius) {
     fail("match-blur: " + std::to_string(match_blur) + " pixels at 1024 px is " +
          std::to_string(scaled_match_blur()) + " at the matching width " +
-         std::to_string(matching_width) + ", whose taps would reach past the 8 pixels supported");
+         std::to_string(matching_width) + ", whose taps would reach past the " +
+         std::to_string(kMatchBlurMaxRadius) + " pixels supported");
   }
   if (!matching_cost_named(name_of(cost))) fail("cost: not a matching cost");
   if (feature_radius < 1 || feature_radius > 16)

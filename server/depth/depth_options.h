@@ -14,6 +14,8 @@ namespace omnisweep::depth {
 
 // Reference cameras one frame can have (the kernels take their cameras as push constants).
 inline constexpr std::size_t kMaxReferences = 8;
+// How far the matching blur's taps reach at most, pixels (match_blur.comp's shared memory).
+inline constexpr int kMatchBlurMaxRadius = 8;
 
 // The matching cost of the sweep (ALGORITHM.md §3 step 3 is kAbsoluteDifference). The others
 // compare matching features (shaders/matching_features.comp) that a camera's gain, colour cast
@@ -46,7 +48,8 @@ struct DepthOptions {
   double confident_sigma_s = 0;
   // A Gaussian blur of this sigma (pixels at 1024 px, scaled with the matching width) over the
   // matching images before the sweep, the guide and the matching features (match_blur.h;
-  // docs/accuracy.md). 0: off, the paper's. At most 8/3 pixels at the matching resolution.
+  // docs/accuracy.md). 0: off, the paper's. Its taps reach 3 sigma, at most kMatchBlurMaxRadius
+  // pixels at the matching resolution.
   double match_blur = 0;
   int matching_width = 1024;
   int matching_height = 1024;

@@ -15,15 +15,13 @@
 #include "omnisweep/gpu/kernel.h"
 #include "omnisweep/gpu/sequence.h"
 #include "omnisweep/image/image.h"
+#include "server/depth/depth_options.h"
 
 namespace omnisweep::depth {
 
-// Taps reach at most this far (the kernel's shared memory): sigma at most kMatchBlurMaxRadius / 3.
-constexpr int kMatchBlurMaxRadius = 8;
-
 // The normalised weights w[0..radius] (w[|i|] for offset i) of a Gaussian of `sigma` pixels,
 // radius = ceil(3 sigma), in float as the kernel gets them. Throws std::invalid_argument where
-// sigma is not positive or the radius exceeds kMatchBlurMaxRadius.
+// sigma is not positive or the radius exceeds kMatchBlurMaxRadius (depth_options.h).
 struct MatchBlurWeights {
   int radius = 0;
   std::array<float, kMatchBlurMaxRadius + 1> w{};
