@@ -1,8 +1,8 @@
 // The matching images' blur (DepthOptions::match_blur, --match-blur; docs/accuracy.md): a
 // Gaussian of sigma pixels over each camera's matching image before the sweep, the ISB filter's
 // guide and the matching features read it; the colour the stitcher samples is not blurred. It
-// averages sensor noise before the sweep's bilinear taps, whose own averaging otherwise makes a
-// candidate's cost depend on where its taps fall between pixels. One pass on the GPU
+// averages sensor noise before the sweep's bilinear taps (docs/accuracy.md, "Matching blur", has
+// what it gains and why it is not in the default). One pass on the GPU
 // (shaders/match_blur.comp); match_blur_cpu is the CPU check. Hand-written rather than OpenCV's
 // GaussianBlur: the compute core needs Vulkan only, and the check must follow the kernel's float
 // order to the bit.

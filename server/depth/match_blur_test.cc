@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <random>
@@ -107,14 +108,19 @@ TEST_F(MatchBlurTest, EqualsCpu) {
   for (const double sigma : {0.7, 8.0 / 3.0}) {
     const std::vector<Rgb8Image> gpu = blurred_on_gpu(context(), f.images, sigma);
     std::size_t differ = 0, changed = 0;
+    int worst = 0;
     for (std::size_t k = 0; k < f.images.size(); ++k) {
       const Rgb8Image cpu = match_blur_cpu(f.images[k], sigma);
       for (std::size_t i = 0; i < cpu.size(); ++i) {
         differ += cpu.data()[i] != gpu[k].data()[i];
+        worst = std::max(worst, std::abs(int(cpu.data()[i]) - int(gpu[k].data()[i])));
         changed += cpu.data()[i] != f.images[k].data()[i];
       }
     }
-    EXPECT_EQ(differ, 0u) << "sigma " << sigma;
+    // The same float sums in the same order: equal here (x86-64, lavapipe). A compiler that fuses
+    // the CPU's multiply-adds (aarch64's default) may round a sum at .5 the other way.
+    EXPECT_LE(worst, 1) << "sigma " << sigma;
+    EXPECT_LE(differ, f.images[0].size() * f.images.size() / 1000) << "sigma " << sigma;
     EXPECT_GT(changed, f.images[0].size());  // it blurred
   }
 }
