@@ -361,15 +361,13 @@ void DepthEstimator::record_post_filter(gpu::Sequence& seq) {
 
 void DepthEstimator::record_blur(gpu::Sequence& seq) {
   if (!blur_) return;
+  seq.begin_stage("match_blur");
   blur_->record(seq, images_, blurred_);
   seq.barrier();
 }
 
 void DepthEstimator::record(gpu::Sequence& seq) {
-  if (blur_) {
-    seq.begin_stage("match_blur");
-    record_blur(seq);
-  }
+  record_blur(seq);
   seq.begin_stage("filter");
   if (robust_cost()) {  // the sweep's input (and the ratio's guides)
     record_features(seq);

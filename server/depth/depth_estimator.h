@@ -98,7 +98,8 @@ class DepthEstimator {
   bool confident_sigma() const { return options_.confident_sigma_s > 0; }
   // The images the sweep, the guides and the features read: blurred where match_blur asks.
   const gpu::Buffer& matched_images() const { return blur_ ? blurred_ : images_; }
-  // The blur of images_ into blurred_ and a barrier, where match_blur asks (else nothing).
+  // The blur of images_ into blurred_ (stage "match_blur") and a barrier, where match_blur asks
+  // (else nothing).
   void record_blur(gpu::Sequence& seq);
   std::uint32_t slots() const { return std::uint32_t(options_.references.size()); }
 

@@ -3,6 +3,7 @@
 #include <numbers>
 
 #include "omnisweep/gpu/sequence.h"
+#include "omnisweep/reproject/gpu_camera.h"
 
 namespace omnisweep::depth::fixtures {
 
@@ -57,6 +58,29 @@ std::vector<float> isb_filter_gpu(gpu::Context& context, const std::vector<std::
   filter.record(seq, guide_buffer, volume, params);
   seq.submit_and_wait();
   return volume.download(channels);
+}
+
+std::vector<std::uint32_t> packed_images(std::span<const Rgb8View> images) {
+  if (images.empty()) return {};
+  const std::size_t pixels = std::size_t(images[0].width()) * images[0].height();
+  std::vector<std::uint32_t> packed(pixels * images.size());
+  for (std::size_t k = 0; k < images.size(); ++k)
+    reproject::pack_rgba8(images[k], std::span(packed).subspan(k * pixels, pixels));
+  return packed;
+}
+
+std::vector<Rgb8Image> unpacked_images(std::span<const std::uint32_t> packed, int width,
+                                       int height) {
+  const std::size_t pixels = std::size_t(width) * height;
+  std::vector<Rgb8Image> images;
+  for (std::size_t k = 0; k + pixels <= packed.size(); k += pixels) {
+    Rgb8Image im(width, height);
+    for (std::size_t p = 0; p < pixels; ++p)
+      for (int ch = 0; ch < 3; ++ch)
+        im.data()[p * 3 + ch] = std::uint8_t((packed[k + p] >> (8 * ch)) & 0xff);
+    images.push_back(std::move(im));
+  }
+  return images;
 }
 
 }  // namespace omnisweep::depth::fixtures

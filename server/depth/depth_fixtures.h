@@ -2,7 +2,9 @@
 // with exact per-camera ground truth, and the GPU ISB filter run on host data.
 #pragma once
 
+#include <cstdint>
 #include <optional>
+#include <span>
 #include <vector>
 
 #include "omnisweep/gpu/context.h"
@@ -32,6 +34,12 @@ struct Accuracy {
 };
 Accuracy inverse_distance_accuracy(const FloatImage& distance, const FloatImage& inverse_gt,
                                    const Gray8Image& usable);
+
+// Images of one size one after another as packed RGBA8 (reproject::pack_rgba8), as the depth
+// kernels read them, and back (alpha dropped).
+std::vector<std::uint32_t> packed_images(std::span<const Rgb8View> images);
+std::vector<Rgb8Image> unpacked_images(std::span<const std::uint32_t> packed, int width,
+                                       int height);
 
 // Filters `values` (width x height x channels) guided by `guide` on the GPU.
 std::vector<float> isb_filter_gpu(gpu::Context& context, const std::vector<std::uint32_t>& guide,

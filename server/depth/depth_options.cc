@@ -82,7 +82,7 @@ void DepthOptions::check(int num_cameras) const {
   if (!(match_blur >= 0) || !std::isfinite(match_blur))
     fail("match-blur: " + std::to_string(match_blur) +
          " must be 0 (off) or a positive number of pixels");
-  if (match_blur > 0 && std::ceil(3.0 * scaled_match_blur()) > kMatchBlurMaxRadius) {
+  if (match_blur > 0 && match_blur_radius(scaled_match_blur()) > kMatchBlurMaxRadius) {
     fail("match-blur: " + std::to_string(match_blur) + " pixels at 1024 px is " +
          std::to_string(scaled_match_blur()) + " at the matching width " +
          std::to_string(matching_width) + ", whose taps would reach past the " +

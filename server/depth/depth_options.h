@@ -16,6 +16,8 @@ namespace omnisweep::depth {
 inline constexpr std::size_t kMaxReferences = 8;
 // How far the matching blur's taps reach at most, pixels (match_blur.comp's shared memory).
 inline constexpr int kMatchBlurMaxRadius = 8;
+// How far they reach for a Gaussian of `sigma` pixels at the matching resolution: 3 sigma.
+inline int match_blur_radius(double sigma) { return int(std::ceil(3.0 * sigma)); }
 
 // The matching cost of the sweep (ALGORITHM.md §3 step 3 is kAbsoluteDifference). The others
 // compare matching features (shaders/matching_features.comp) that a camera's gain, colour cast

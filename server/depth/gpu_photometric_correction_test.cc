@@ -6,7 +6,6 @@
 
 #include <cstdlib>
 
-#include "omnisweep/reproject/gpu_camera.h"
 #include "server/depth/depth_fixtures.h"
 #include "tests/support/gpu_test_support.h"
 
@@ -24,11 +23,10 @@ fixtures::SyntheticDepthCase render(int size) {
 std::vector<Rgb8Image> corrected_on_gpu(gpu::Context& context,
                                         const fixtures::SyntheticDepthCase& f,
                                         const PhotometryFit& fit, const std::vector<int>& cameras) {
-  const std::vector<int> list = cameras.empty() ? std::vector<int>{0, 1, 2, 3} : cameras;
-  const std::size_t pixels = f.images[0].width() * std::size_t(f.images[0].height());
-  std::vector<std::uint32_t> packed(pixels * list.size());
-  for (std::size_t k = 0; k < list.size(); ++k)
-    reproject::pack_rgba8(f.images[list[k]], std::span(packed).subspan(k * pixels, pixels));
+  std::vector<Rgb8View> views;
+  for (const int c : cameras.empty() ? std::vector<int>{0, 1, 2, 3} : cameras)
+    views.emplace_back(f.images[std::size_t(c)]);
+  const std::vector<std::uint32_t> packed = fixtures::packed_images(views);
   gpu::Buffer buffer(context, packed.size() * 4);
   buffer.upload(std::span<const std::uint32_t>(packed));
   GpuPhotometricCorrection correction(context, f.rig.rig(), cameras);
@@ -36,16 +34,8 @@ std::vector<Rgb8Image> corrected_on_gpu(gpu::Context& context,
   seq.begin();
   correction.record(seq, buffer, fit);
   seq.submit_and_wait();
-  const std::vector<std::uint32_t> out = buffer.download<std::uint32_t>();
-  std::vector<Rgb8Image> images;
-  for (std::size_t k = 0; k < list.size(); ++k) {
-    Rgb8Image im(f.images[0].width(), f.images[0].height());
-    for (std::size_t p = 0; p < pixels; ++p)
-      for (int ch = 0; ch < 3; ++ch)
-        im.data()[p * 3 + ch] = std::uint8_t((out[k * pixels + p] >> (8 * ch)) & 0xff);
-    images.push_back(std::move(im));
-  }
-  return images;
+  return fixtures::unpacked_images(buffer.download<std::uint32_t>(), f.images[0].width(),
+                                   f.images[0].height());
 }
 
 TEST_F(GpuPhotometricCorrectionTest, EqualsCpu) {

@@ -23,7 +23,7 @@ MatchBlurWeights match_blur_weights(double sigma) {
   if (!(sigma > 0) || !std::isfinite(sigma))
     throw std::invalid_argument("match-blur: sigma must be a positive number of pixels");
   MatchBlurWeights out;
-  out.radius = int(std::ceil(3.0 * sigma));
+  out.radius = match_blur_radius(sigma);
   if (out.radius > kMatchBlurMaxRadius) {
     throw std::invalid_argument("match-blur: sigma " + std::to_string(sigma) +
                                 " pixels at the matching resolution reaches " +

@@ -20,8 +20,8 @@
 namespace omnisweep::depth {
 
 // The normalised weights w[0..radius] (w[|i|] for offset i) of a Gaussian of `sigma` pixels,
-// radius = ceil(3 sigma), in float as the kernel gets them. Throws std::invalid_argument where
-// sigma is not positive or the radius exceeds kMatchBlurMaxRadius (depth_options.h).
+// radius = match_blur_radius(sigma), in float as the kernel gets them. Throws std::invalid_argument
+// where sigma is not positive or the radius exceeds kMatchBlurMaxRadius (depth_options.h).
 struct MatchBlurWeights {
   int radius = 0;
   std::array<float, kMatchBlurMaxRadius + 1> w{};

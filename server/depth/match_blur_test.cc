@@ -9,7 +9,6 @@
 #include <cstdlib>
 #include <random>
 
-#include "omnisweep/reproject/gpu_camera.h"
 #include "server/depth/depth_estimator.h"
 #include "server/depth/depth_fixtures.h"
 #include "tests/support/gpu_test_support.h"
@@ -23,10 +22,8 @@ using MatchBlurTest = omnisweep::testing::ValidatedGpuTest;
 std::vector<Rgb8Image> blurred_on_gpu(gpu::Context& context, const std::vector<Rgb8Image>& images,
                                       double sigma) {
   const int width = images[0].width(), height = images[0].height();
-  const std::size_t pixels = std::size_t(width) * height;
-  std::vector<std::uint32_t> packed(pixels * images.size());
-  for (std::size_t k = 0; k < images.size(); ++k)
-    reproject::pack_rgba8(images[k], std::span(packed).subspan(k * pixels, pixels));
+  const std::vector<Rgb8View> views(images.begin(), images.end());
+  const std::vector<std::uint32_t> packed = fixtures::packed_images(views);
   gpu::Buffer source(context, packed.size() * 4), out(context, packed.size() * 4);
   source.upload(std::span<const std::uint32_t>(packed));
   const MatchBlur blur(context, width, height, int(images.size()), sigma);
@@ -35,17 +32,8 @@ std::vector<Rgb8Image> blurred_on_gpu(gpu::Context& context, const std::vector<R
   blur.record(seq, source, out);
   seq.submit_and_wait();
   const std::vector<std::uint32_t> words = out.download<std::uint32_t>();
-  std::vector<Rgb8Image> result;
-  for (std::size_t k = 0; k < images.size(); ++k) {
-    Rgb8Image im(width, height);
-    for (std::size_t p = 0; p < pixels; ++p) {
-      EXPECT_EQ(words[k * pixels + p] >> 24, 0xffu);  // alpha kept
-      for (int ch = 0; ch < 3; ++ch)
-        im.data()[p * 3 + ch] = std::uint8_t((words[k * pixels + p] >> (8 * ch)) & 0xff);
-    }
-    result.push_back(std::move(im));
-  }
-  return result;
+  for (const std::uint32_t word : words) EXPECT_EQ(word >> 24, 0xffu);  // alpha kept
+  return fixtures::unpacked_images(words, width, height);
 }
 
 TEST(MatchBlurWeightsTest, NormalisedAndBounded) {
