@@ -67,8 +67,14 @@ CameraResponse draw_camera_response(const PhotometricOptions& options, std::uint
 }
 
 void apply_camera_response(const PhotometricOptions& options, const CameraResponse& response,
-                           const RigCamera& camera, std::uint64_t noise_seed, Rgb8Image* image) {
+                           const RigCamera& camera, std::uint64_t noise_seed,
+                           const RgbFloatImage& radiance, Rgb8Image* image) {
   if (!options.any()) return;
+  if (radiance.width() != image->width() || radiance.height() != image->height())
+    throw std::invalid_argument(
+        "apply_camera_response: the radiance is " + std::to_string(radiance.width()) + "x" +
+        std::to_string(radiance.height()) + ", the image " + std::to_string(image->width()) + "x" +
+        std::to_string(image->height()));
   const double falloff = 1.0 - response.vignetting;
   const double angle_scale = 180.0 / (options.vignetting_angle_deg * std::numbers::pi);
   const std::uint64_t frame_key = mix(noise_seed);
@@ -85,7 +91,7 @@ void apply_camera_response(const PhotometricOptions& options, const CameraRespon
       }
       const std::uint64_t pixel = std::uint64_t(v) * image->width() + u;
       for (int k = 0; k < 3; ++k) {
-        double value = (*image)(u, v, k) * response.gain[k] * brightness;
+        double value = 255.0 * radiance(u, v, k) * response.gain[k] * brightness;
         if (options.noise_sigma > 0) {
           // Box-Muller from two independent draws of this pixel and channel.
           const std::uint64_t key = frame_key ^ (pixel * 3 + k) * 0x9e3779b97f4a7c15ull;

@@ -1,8 +1,11 @@
 // What a real rig's cameras do to light that the renderer does not: a per-camera gain (exposure
 // and sensor sensitivity), a per-camera colour cast (white balance), radial lens vignetting and
-// per-frame sensor noise. Applied to the rendered 8-bit values (a gain in linear light is a gain
-// of the gamma-encoded values too, so this is the same model, at the strong end). The ground
-// truth panorama keeps the scene's own colours.
+// per-frame sensor noise. Applied to the rendered colour before it is rounded to 8 bits, as a
+// sensor quantises after its gain and noise: rounding the render first and the response after
+// would give every camera the same 8-bit steps on smooth shading, a texture fixed in the scene
+// that noise dithers away on a real sensor (docs/accuracy.md, "Sensor noise"). A gain in linear
+// light is a gain of the gamma-encoded values too, so this is the same model, at the strong end.
+// The ground truth panorama keeps the scene's own colours.
 #pragma once
 
 #include <cstdint>
@@ -41,8 +44,11 @@ struct CameraResponse {
 CameraResponse draw_camera_response(const PhotometricOptions& options, std::uint64_t seed,
                                     int camera);
 
-// Applies `response` and noise (seeded by `noise_seed`) to `image` of `camera` in place.
+// Rewrites `image` of `camera` as `radiance` (its colour in [0, 1], same size) through `response`
+// and noise (seeded by `noise_seed`), rounded once; leaves `image` as it is where `options` has
+// no effect. Throws std::invalid_argument when the two differ in size.
 void apply_camera_response(const PhotometricOptions& options, const CameraResponse& response,
-                           const RigCamera& camera, std::uint64_t noise_seed, Rgb8Image* image);
+                           const RigCamera& camera, std::uint64_t noise_seed,
+                           const RgbFloatImage& radiance, Rgb8Image* image);
 
 }  // namespace omnisweep::synthetic

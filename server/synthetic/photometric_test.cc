@@ -101,6 +101,37 @@ TEST(Photometric, NoiseIsNewEveryFrameAndRepeatsWithTheSeed) {
   EXPECT_GT(differ, n / 2);
 }
 
+// A sensor rounds once, after its gain and noise: the 8-bit steps of a smooth ramp lie where the
+// camera's own brightness crosses them, and noise dithers a level's fraction into the mean. (Gain
+// on the rendered 8-bit values would keep the render's steps, the same in every camera.)
+TEST(Photometric, TheSensorRoundsOnceAfterItsResponse) {
+  PhotometricOptions o;
+  o.gain_spread = 0.2;  // any(); the response is given below
+  const SyntheticRig rig = rig_with(o);
+  const RigCamera& camera = rig.rig().cameras[0];
+  CameraResponse response;
+  response.gain[0] = response.gain[1] = response.gain[2] = 0.8;
+  RgbFloatImage ramp(camera.width, camera.height);
+  for (int y = 0; y < camera.height; ++y)
+    for (int x = 0; x < camera.width; ++x)
+      for (int k = 0; k < 3; ++k) ramp(x, y, k) = float((40.0 + 0.37 * x) / 255.0);
+  Rgb8Image image(camera.width, camera.height);
+  apply_camera_response(o, response, camera, 1, ramp, &image);
+  for (int x = 0; x < camera.width; ++x)
+    ASSERT_EQ(image(x, 64, 1), std::lround(255.0 * ramp(x, 64, 1) * 0.8)) << "x " << x;
+
+  o.noise_sigma = 1;
+  const RgbFloatImage flat = RgbFloatImage::filled(camera.width, camera.height, 0.3f);
+  apply_camera_response(o, response, camera, 1, flat, &image);
+  double sum = 0;
+  for (const std::uint8_t v : image.pixels()) sum += v;
+  // 255 x 0.3 x 0.8 = 61.2; rounding the render first would give 77 x 0.8 = 61.6.
+  EXPECT_NEAR(sum / double(image.pixels().size()), 61.2, 0.05);
+
+  EXPECT_THROW(apply_camera_response(o, response, camera, 1, RgbFloatImage(4, 4), &image),
+               std::invalid_argument);
+}
+
 TEST(Photometric, BadOptionsNameTheField) {
   PhotometricOptions o;
   o.vignetting_min = 0.8;

@@ -18,6 +18,8 @@ void store(const Scene& scene, const Ray& ray, float pixel_angle, int x, int y,
   if (!scene.intersect(ray, &hit)) return;
   const Eigen::Vector3f c = scene.shade(ray, hit, pixel_angle);
   for (int k = 0; k < 3; ++k) out->rgb(x, y, k) = to_byte(c[k]);
+  if (!out->radiance.empty())
+    for (int k = 0; k < 3; ++k) out->radiance(x, y, k) = c[k];
   out->inverse_distance(x, y) = 1.0f / hit.t;
 }
 
@@ -31,8 +33,8 @@ bool lens_ray(const RigCamera& camera, double u, double v, double cos_half_fov,
 
 RenderedImage render_camera(const Scene& scene, const RigCamera& camera,
                             const Rigid3d& world_from_rig, double lens_half_fov) {
-  RenderedImage out{Rgb8Image(camera.width, camera.height),
-                    FloatImage(camera.width, camera.height)};
+  RenderedImage out{Rgb8Image(camera.width, camera.height), FloatImage(camera.width, camera.height),
+                    RgbFloatImage(camera.width, camera.height)};
   const Rigid3d world_from_cam = world_from_rig * camera.rig_from_cam;
   const Eigen::Matrix3f rotation = world_from_cam.rotation.toRotationMatrix().cast<float>();
   const Eigen::Vector3f origin = world_from_cam.translation.cast<float>();

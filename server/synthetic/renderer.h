@@ -15,6 +15,9 @@ struct RenderedImage {
   Rgb8Image rgb;  // RGB, black outside the lens circle
   FloatImage
       inverse_distance;  // 1 / Euclidean distance (m^-1) from the projection centre; 0 where no ray
+  // render_camera only (empty in panoramas): the shaded colour in [0, 1] that `rgb` rounds, for
+  // the sensor model (photometric.h), which rounds once, after its gain, vignetting and noise.
+  RgbFloatImage radiance;
 };
 
 // Pixels whose ray is more than `lens_half_fov` radians off the optical axis see no light

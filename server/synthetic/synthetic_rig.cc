@@ -115,8 +115,10 @@ SyntheticFrame SyntheticRig::render(int index, int panorama_width, int panorama_
     // Noise differs from frame to frame and camera to camera, and repeats with the seed.
     const std::uint64_t noise_seed =
         (options_.seed * 0x9e3779b97f4a7c15ull) ^ (std::uint64_t(index) << 8) ^ std::uint64_t(c);
-    apply_camera_response(options_.photometric, responses_[c], cam, noise_seed,
-                          &frame.cameras.back().rgb);
+    RenderedImage& image = frame.cameras.back();
+    apply_camera_response(options_.photometric, responses_[c], cam, noise_seed, image.radiance,
+                          &image.rgb);
+    image.radiance = {};  // the sensor's output is `rgb`; the float copy is 12 bytes a pixel
   }
   frame.panorama =
       render_panorama(scene_, frame.world_from_rig, viewpoint(), panorama_width, panorama_height);
