@@ -1,9 +1,9 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
 // Region planes, step 5 (server/stitch/region_planes.h): per block of a region with planes, the
-// planes whose inliers (the sample's supports tagged with them) lie in at least three of the four
-// quadrants of the tangent plane at the block's centre ray; `surround` gets (planes as bits,
-// region), (0, kNone) elsewhere.
+// planes whose inliers (the sample's supports tagged with them) within the surround's angle of
+// the block's centre ray (push.surround_cos) lie in at least three of the four quadrants of the
+// tangent plane at that ray; `surround` gets (planes as bits, region), (0, kNone) elsewhere.
 layout(local_size_x_id = 100, local_size_y_id = 101, local_size_z_id = 102) in;
 
 layout(std430, set = 0, binding = 0) readonly buffer Parent { uint parent[]; };

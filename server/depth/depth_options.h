@@ -106,9 +106,10 @@ struct DepthOptions {
 // sigma, the ISB filter's spatial sigma, and the stitcher's plane fill and region planes) at once;
 // every other option keeps its value. "paper" is ALGORITHM.md, DepthOptions' and StitchOptions'
 // defaults; "recommended" the matching variants alone; "accurate" the most accurate variant
-// measured and the programs' default (docs/accuracy.md, "Defaults"): 28 % lower MAE than the
-// paper's on blender-hall, 54 % on the synthetic frames, 27 % with sensor noise, and under lenses
-// with different gains and vignetting within 1.14 x of its MAE without them (with noise).
+// measured and the programs' default (docs/accuracy.md, "Defaults"): 27 % lower MAE than the
+// paper's on blender-hall, 54 % on the synthetic frames, 11-19 % with sensor noise, and under
+// lenses with different gains and vignetting within 1.11-1.19 x of its MAE without them (with
+// noise).
 struct Method {
   std::string_view name;
   MatchingCost cost;

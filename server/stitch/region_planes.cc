@@ -39,6 +39,8 @@ void RegionPlaneParams::check() const {
   if (!(tau > 0 && tau < 1)) bad("tau", tau, "in (0, 1)");
   if (min_inliers < 3) bad("min_inliers", min_inliers, "at least 3");
   if (min_inlier_fraction < 1) bad("min_inlier_fraction", min_inlier_fraction, "at least 1");
+  if (!(surround_angle_deg > 0 && surround_angle_deg <= 90))
+    bad("surround_angle_deg", surround_angle_deg, "in (0, 90]");
 }
 
 namespace {
@@ -263,6 +265,7 @@ FloatImage region_planes_cpu(const FloatImage& distance, const FloatImage& confi
 
   // 5. Surround (region_surround.comp) and 6. the pixels (region_apply.comp).
   const float v_min = float(1.0 / max_distance), v_max = float(1.0 / min_distance);
+  const float min_cos = region_math::surround_cos(params.surround_angle_deg);
   for (int b = 0; b < nb; ++b) {
     const int l = region_of(b);
     if (l < 0 || regions[l].planes.empty()) continue;
@@ -273,7 +276,8 @@ FloatImage region_planes_cpu(const FloatImage& distance, const FloatImage& confi
     std::uint64_t quadrants = 0;
     for (std::size_t j = 0; j < r.rays.size(); ++j)
       if (r.tag[j] >= 0)
-        quadrants |= std::uint64_t(region_math::quadrant(centre, r.rays[j])) << (4 * r.tag[j]);
+        quadrants |= std::uint64_t(region_math::quadrant(centre, r.rays[j], min_cos))
+                     << (4 * r.tag[j]);
     const std::uint32_t mask = region_math::surrounding(quadrants);
     if (!mask) continue;
     for (int y = by * bsize; y < std::min(h, (by + 1) * bsize); ++y) {

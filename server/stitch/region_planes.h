@@ -5,9 +5,9 @@
 // connected region of unconfident pixels is taken whole: the confident pixels on its rim and in
 // its holes (a ceiling's creases with the walls, the edges of its lights) are its support; planes
 // are found among them by sequential RANSAC; and each unconfident pixel takes, among the planes
-// whose inliers surround it (in at least three of the four quadrants around its ray, so that a
-// plane is interpolated, never extrapolated: a wall's plane does not run on into the ceiling
-// above it), the one nearest its own inverse distance.
+// whose inliers within 60 degrees surround it (in at least three of the four quadrants around its
+// ray, so that a plane is interpolated, never extrapolated: a wall's plane does not run on into
+// the ceiling above it), the one nearest its own inverse distance.
 //
 // The work is done on blocks of `block` x `block` pixels (4 at 2048 x 1024), so that the
 // labelling and the search for support touch a sixteenth of the panorama:
@@ -26,8 +26,8 @@
 //      best (the first of equals) refitted three times by least squares on its inliers,
 //      |a . r - v| < tau v; its inliers removed; while a plane has at least max(3, the sample's
 //      share of min_inliers, the sample / min_inlier_fraction) inliers);
-//   5. surround: per block of a region, the planes whose inliers lie in >= 3 of the 4 quadrants
-//      of the tangent plane at its centre ray;
+//   5. surround: per block of a region, the planes whose inliers within surround_angle_deg of
+//      its centre ray lie in >= 3 of the 4 quadrants of the tangent plane at that ray;
 //   6. each unconfident pixel of such a block takes the surrounding plane nearest its own inverse
 //      distance, mixed with it by alpha = 1 - confidence / fill_below (as the plane fill) and
 //      clamped to the sweep's range.
@@ -62,6 +62,10 @@ struct RegionPlaneParams {
   double tau = 0.06;         // an inlier's inverse distance is within tau x its own of the plane
   int min_inliers = 30;      // a plane needs this many support pixels' worth of inliers
   int min_inlier_fraction = 50;  // and 1 / this of the sample
+  // A plane surrounds a block through its inliers within this angle of the block's centre ray
+  // (90: the whole hemisphere, as before stop 42). Far inliers let a plane found by chance
+  // through a few scattered supports surround a whole plain ceiling (docs/accuracy.md).
+  double surround_angle_deg = 60.0;
   // For a panorama `width` pixels wide: block and min_pixels scaled from 2048 (the rim, in
   // blocks, stays 8 pixels' worth).
   static RegionPlaneParams for_width(int width);

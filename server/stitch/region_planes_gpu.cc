@@ -10,6 +10,7 @@
 #include "omnisweep/gpu/shaders.h"
 #include "server/stitch/panorama_rays.h"
 #include "server/stitch/region_planes.h"
+#include "server/stitch/region_planes_math.h"
 
 namespace omnisweep::stitch {
 namespace {
@@ -21,6 +22,7 @@ struct RegionPush {
       min_inliers, min_inlier_fraction;
   float fill_below, support, tau, inv_d_min, inv_d_max;
   std::int32_t plane, phase;
+  float surround_cos;
 };
 
 gpu::Buffer ray_table(gpu::Context& context, int width, int height) {
@@ -114,7 +116,8 @@ void RegionPlanes::record(gpu::Sequence& seq, gpu::Buffer& distance,
                   float(1.0 / min_distance_),
                   float(1.0 / max_distance_),
                   0,
-                  0};
+                  0,
+                  region_math::surround_cos(p.surround_angle_deg)};
   const auto per_block =
       blocks_kernel_.groups_for(std::uint32_t(blocks_x_), std::uint32_t(blocks_y_));
   const auto regions = std::uint32_t(p.max_regions);

@@ -102,10 +102,16 @@ inline bool is_inlier(const Vec3f& a, const Vec3f& r, float v, float tau) {
   return std::abs(dot(a, r) - v) < tau * v;
 }
 
-// The quadrant (a bit of 4) of the tangent plane at `centre` that the ray t lies in; 0 if t is on
-// the far hemisphere.
-inline std::uint32_t quadrant(const Vec3f& centre, const Vec3f& t) {
-  if (!(dot(t, centre) > 0.0f)) return 0;
+// The cosine a support's ray must exceed with a block's centre ray to count for its surround
+// (RegionPlaneParams::surround_angle_deg), in float as the kernels get it.
+inline float surround_cos(double angle_deg) {
+  return float(std::cos(angle_deg * 3.14159265358979323846 / 180.0));
+}
+
+// The quadrant (a bit of 4) of the tangent plane at `centre` that the ray t lies in; 0 if t is
+// not within the surround's angle of it (dot(t, centre) <= min_cos).
+inline std::uint32_t quadrant(const Vec3f& centre, const Vec3f& t, float min_cos) {
+  if (!(dot(t, centre) > min_cos)) return 0;
   Vec3f e1{-centre.y, centre.x, 0.0f};  // (0, 0, 1) x centre
   const float len = std::sqrt(dot(e1, e1));
   e1 = len < 1e-6f ? Vec3f{1.0f, 0.0f, 0.0f} : e1 * (1.0f / len);

@@ -25,7 +25,7 @@ TEST(RegionPlanes, PlainCeilingReturnsToItsRimsPlane) {
   const Scene s = make_scene(plain_ceiling);
   const FloatImage out =
       region_planes_cpu(s.distance, s.confidence, params(), kMinDistance, kMaxDistance);
-  int low = 0;
+  int low = 0, kept = 0;
   double before = 0, after = 0;
   for (std::size_t i = 0; i < s.truth.size(); ++i) {
     if (!s.low[i]) {
@@ -34,12 +34,18 @@ TEST(RegionPlanes, PlainCeilingReturnsToItsRimsPlane) {
     }
     ++low;
     before += std::abs(1.0 / s.distance.data()[i] - s.truth.data()[i]) / s.truth.data()[i];
+    if (out.data()[i] == s.distance.data()[i]) {
+      ++kept;
+      continue;
+    }
     after += std::abs(1.0 / out.data()[i] - s.truth.data()[i]) / s.truth.data()[i];
   }
   ASSERT_GT(low, 2000);
   EXPECT_NEAR(before / low, 0.2, 1e-3);
+  // The ceiling's corners, whose far rim lies beyond the surround's 60 degrees, may keep theirs.
+  EXPECT_LT(kept, low / 50);
   // alpha = 1 - 0.01 / 0.05 = 0.8 of the plane: what is left is 0.2 x the 20 % error.
-  EXPECT_LT(after / low, 0.2 * 0.2 + 0.002);
+  EXPECT_LT(after / (low - kept), 0.2 * 0.2 + 0.002);
 }
 
 TEST(RegionPlanes, HalfwayToTheThresholdGetsHalfThePlane) {
@@ -87,6 +93,24 @@ TEST(RegionPlanes, APlaneIsNotExtrapolatedBeyondItsSupport) {
   EXPECT_LT(after / low, 0.2 * 0.2 + 0.002);
 }
 
+TEST(RegionPlanes, OnlyInliersWithinTheSurroundAngleCount) {
+  // The zenith of the plain ceiling: its rim lies 52-64 degrees away. Within 60 degrees its
+  // inliers surround it; within 30 none count, so it keeps its own distance.
+  const Scene s = make_scene(plain_ceiling);
+  const std::size_t zenith = 10;  // row 0
+  ASSERT_TRUE(s.low[zenith]);
+  const double truth = s.truth.data()[zenith];
+  const FloatImage wide =
+      region_planes_cpu(s.distance, s.confidence, params(), kMinDistance, kMaxDistance);
+  EXPECT_NEAR(1.0 / wide.data()[zenith], 0.8 * truth + 0.2 / s.distance.data()[zenith],
+              1e-3 * truth);
+  RegionPlaneParams narrow = params();
+  narrow.surround_angle_deg = 30;
+  const FloatImage kept =
+      region_planes_cpu(s.distance, s.confidence, narrow, kMinDistance, kMaxDistance);
+  EXPECT_EQ(kept.data()[zenith], s.distance.data()[zenith]);
+}
+
 TEST(RegionPlanes, SmallRegionsAndConfidentFramesAreLeftAlone) {
   // A patch of 5 x 5 pixels is below min_pixels (31 at this width).
   const Scene small =
@@ -126,6 +150,10 @@ TEST(RegionPlanes, BadInputIsNamed) {
   } catch (const std::invalid_argument& e) {
     EXPECT_NE(std::string(e.what()).find("tau"), std::string::npos) << e.what();
   }
+  p = params();
+  p.surround_angle_deg = 120;
+  EXPECT_THROW(region_planes_cpu(s.distance, s.confidence, p, kMinDistance, kMaxDistance),
+               std::invalid_argument);
   p = params();
   p.max_planes = kRegionPlaneMaxPlanes + 1;
   EXPECT_THROW(region_planes_cpu(s.distance, s.confidence, p, kMinDistance, kMaxDistance),

@@ -24,6 +24,7 @@ layout(push_constant) uniform Push {
   float inv_d_max;
   int plane;  // region_ransac_step: the plane being found
   int phase;  // region_support: 0 counts the supports, 1 collects the sample's candidates
+  float surround_cos;  // cos of RegionPlaneParams::surround_angle_deg
 } push;
 
 const uint kNone = 0xffffffffu;
@@ -92,7 +93,7 @@ float msac(vec3 a, vec4 s) {
 bool is_inlier(vec3 a, vec4 s) { return abs(dot(a, s.xyz) - s.w) < push.tau * s.w; }
 
 uint quadrant(vec3 centre, vec3 t) {
-  if (!(dot(t, centre) > 0.0)) return 0u;
+  if (!(dot(t, centre) > push.surround_cos)) return 0u;
   vec3 e1 = vec3(-centre.y, centre.x, 0.0);
   const float len = sqrt(dot(e1, e1));
   e1 = len < 1e-6 ? vec3(1.0, 0.0, 0.0) : e1 * (1.0 / len);
