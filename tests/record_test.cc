@@ -135,7 +135,9 @@ TEST_F(RecordTest, KilledRecorderLeavesAReadableFileMissingAtMostOneSecond) {
   std::printf("%zu frames logged before SIGKILL, %zu in the file, %d older than 1 s missing\n",
               logged.size(), frames.size(), older_missing);
   EXPECT_EQ(older_missing, 0);
-  EXPECT_GE(frames.size(), logged.size() - 5);
+  // At most 5 of the logged frames missing; written so, since logged.size() - 5 wraps round when
+  // a slow run (ASan) logs fewer than 5 frames in its three seconds.
+  EXPECT_GE(frames.size() + 5, logged.size());
 }
 
 TEST_F(RecordTest, FoxgloveReaderListsTheChannelsAndCounts) {
