@@ -32,9 +32,10 @@ bool lens_ray(const RigCamera& camera, double u, double v, double cos_half_fov,
 }  // namespace
 
 RenderedImage render_camera(const Scene& scene, const RigCamera& camera,
-                            const Rigid3d& world_from_rig, double lens_half_fov) {
+                            const Rigid3d& world_from_rig, double lens_half_fov,
+                            bool keep_radiance) {
   RenderedImage out{Rgb8Image(camera.width, camera.height), FloatImage(camera.width, camera.height),
-                    RgbFloatImage(camera.width, camera.height)};
+                    keep_radiance ? RgbFloatImage(camera.width, camera.height) : RgbFloatImage()};
   const Rigid3d world_from_cam = world_from_rig * camera.rig_from_cam;
   const Eigen::Matrix3f rotation = world_from_cam.rotation.toRotationMatrix().cast<float>();
   const Eigen::Vector3f origin = world_from_cam.translation.cast<float>();

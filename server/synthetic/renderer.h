@@ -15,15 +15,18 @@ struct RenderedImage {
   Rgb8Image rgb;  // RGB, black outside the lens circle
   FloatImage
       inverse_distance;  // 1 / Euclidean distance (m^-1) from the projection centre; 0 where no ray
-  // render_camera only (empty in panoramas): the shaded colour in [0, 1] that `rgb` rounds, for
-  // the sensor model (photometric.h), which rounds once, after its gain, vignetting and noise.
+  // render_camera with keep_radiance only (else empty): the shaded colour in [0, 1] that `rgb`
+  // rounds, for the sensor model (photometric.h), which rounds once, after its gain, vignetting and
+  // noise.
   RgbFloatImage radiance;
 };
 
 // Pixels whose ray is more than `lens_half_fov` radians off the optical axis see no light
 // (outside the lens' image circle), as on a real fisheye sensor.
+// `keep_radiance`: also fill RenderedImage::radiance (12 bytes a pixel), for the sensor model.
 RenderedImage render_camera(const Scene& scene, const RigCamera& camera,
-                            const Rigid3d& world_from_rig, double lens_half_fov);
+                            const Rigid3d& world_from_rig, double lens_half_fov,
+                            bool keep_radiance = false);
 
 // Panorama of width x height seen from `viewpoint_in_rig`, axes aligned with the rig frame.
 RenderedImage render_panorama(const Scene& scene, const Rigid3d& world_from_rig,

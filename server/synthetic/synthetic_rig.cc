@@ -110,8 +110,9 @@ SyntheticFrame SyntheticRig::render(int index, int panorama_width, int panorama_
   frame.world_from_rig = world_from_rig(index);
   for (int c = 0; c < rig_.num_cameras(); ++c) {
     const RigCamera& cam = rig_.cameras[c];
-    frame.cameras.push_back(
-        render_camera(scene_, cam, frame.world_from_rig, options_.lens_half_fov_deg * kPi / 180));
+    frame.cameras.push_back(render_camera(scene_, cam, frame.world_from_rig,
+                                          options_.lens_half_fov_deg * kPi / 180,
+                                          options_.photometric.any()));
     // Noise differs from frame to frame and camera to camera, and repeats with the seed.
     const std::uint64_t noise_seed =
         (options_.seed * 0x9e3779b97f4a7c15ull) ^ (std::uint64_t(index) << 8) ^ std::uint64_t(c);
