@@ -36,9 +36,12 @@ TEST_F(ReliabilityTest, SubscriberResumesAfterTheServerIsKilledAndRestarted) {
   client::SubscriberOptions options{.participant = participant_options()};
   client::RgbdSubscriber subscriber(options);
   std::uint64_t first_revision = 0;
+  double first_start_s = 0;  // a cold start: the server's process, device and first frame
   {
+    const auto started = Clock::now();
     BackgroundProcess server(server_command(), dir_.path() / "server1.log");
     ASSERT_TRUE(subscriber.wait_for_frame(std::chrono::seconds(60))) << server.log();
+    first_start_s = seconds_since(started);
     for (int i = 0; i < 100 && !subscriber.stream_info(); ++i)
       std::this_thread::sleep_for(std::chrono::milliseconds(50));
     ASSERT_TRUE(subscriber.stream_info());
@@ -57,8 +60,12 @@ TEST_F(ReliabilityTest, SubscriberResumesAfterTheServerIsKilledAndRestarted) {
   }
   const double resumed_s = seconds_since(restarted);
   ASSERT_TRUE(frame && frame->description_revision != first_revision) << server.log();
-  std::printf("frames from the restarted server after %.2f s\n", resumed_s);
-  EXPECT_LT(resumed_s, 5.0);
+  std::printf("frames from the restarted server after %.2f s (the first start: %.2f s)\n",
+              resumed_s, first_start_s);
+  // The subscriber that kept running takes the restarted server as fast as a fresh one takes a
+  // server: the killed server's writer, whose lease has not yet run out, must not hold it back. The
+  // bound is the first start's time in the same run, so a slow machine (ASan, 2 cores) moves both.
+  EXPECT_LT(resumed_s, first_start_s + 3.0);
   for (int i = 0; i < 100 && subscriber.stream_info()->revision == first_revision; ++i)
     std::this_thread::sleep_for(std::chrono::milliseconds(50));
   EXPECT_EQ(subscriber.stream_info()->revision, frame->description_revision)

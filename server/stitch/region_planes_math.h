@@ -7,6 +7,7 @@
 #include <bit>
 #include <cmath>
 #include <cstdint>
+#include <numbers>
 #include <vector>
 
 #include "server/stitch/panorama_rays.h"
@@ -105,7 +106,7 @@ inline bool is_inlier(const Vec3f& a, const Vec3f& r, float v, float tau) {
 // The cosine a support's ray must exceed with a block's centre ray to count for its surround
 // (RegionPlaneParams::surround_angle_deg), in float as the kernels get it.
 inline float surround_cos(double angle_deg) {
-  return float(std::cos(angle_deg * 3.14159265358979323846 / 180.0));
+  return float(std::cos(angle_deg * std::numbers::pi / 180.0));
 }
 
 // The quadrant (a bit of 4) of the tangent plane at `centre` that the ray t lies in; 0 if t is
