@@ -268,7 +268,7 @@ void Stitcher::record(gpu::Sequence& seq, const gpu::Buffer& distance,
   }
   if (temporal_) {
     seq.barrier();
-    temporal_->record(seq, out_distance_, out_color_);
+    temporal_->record(seq, out_distance_, out_color_, out_confidence_);
   }
   seq.end_stage();
 }

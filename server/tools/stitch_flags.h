@@ -78,7 +78,8 @@ inline void add_temporal_flags(CLI::App& app, std::optional<stitch::TemporalOpti
         if (!temporal) temporal.emplace();
       },
       "Filter the distance over time: each pixel the mean of its frames since it last changed, "
-      "restarting where colour or distance moves (docs/accuracy.md)");
+      "restarting where colour or distance moves (an unconfident distance's jump once the next "
+      "frame confirms it; docs/accuracy.md)");
   app.add_option_function<int>(
          "--temporal-frames",
          [&temporal](int frames) {
