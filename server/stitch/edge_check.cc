@@ -6,6 +6,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "server/stitch/same_size.h"
 namespace omnisweep::stitch {
 namespace {
 
@@ -65,8 +66,8 @@ FloatImage edge_check_cpu(const Rgb8Image& rgb, const FloatImage& distance,
                           const FloatImage& confidence, const EdgeCheckParams& params) {
   params.check();
   const int w = distance.width(), h = distance.height();
-  if (rgb.width() != w || rgb.height() != h || confidence.width() != w || confidence.height() != h)
-    throw std::invalid_argument("edge check: colour, distance and confidence differ in size");
+  require_same_size("edge check", {sized("distance", distance), sized("colour", rgb),
+                                   sized("confidence", confidence)});
   const EdgePush p = push_for(w, h, params);
   const int nx = blocks(w, p.block), ny = blocks(h, p.block);
   std::vector<char> marks(std::size_t(nx) * ny, 0);

@@ -7,16 +7,10 @@
 #include <stdexcept>
 #include <vector>
 
+#include "server/stitch/same_size.h"
+
 namespace omnisweep::stitch {
 namespace {
-
-void require_same_size(const char* what, int w0, int h0, int w1, int h1) {
-  if (w0 != w1 || h0 != h1) {
-    throw std::invalid_argument(std::string(what) + ": " + std::to_string(w0) + "x" +
-                                std::to_string(h0) + " against ground truth " + std::to_string(w1) +
-                                "x" + std::to_string(h1));
-  }
-}
 
 // Mean of `f` over the 7x7 window around every pixel with a 3-pixel margin (what scikit-image
 // keeps after cropping), via a summed-area table.
@@ -40,7 +34,7 @@ std::vector<double> window_means(const std::vector<double>& f, int w, int h) {
 }  // namespace
 
 double psnr(const Rgb8Image& a, const Rgb8Image& b) {
-  require_same_size("colour panorama", a.width(), a.height(), b.width(), b.height());
+  require_same_size("PSNR", {sized("ground-truth colour", b), sized("colour panorama", a)});
   double mse = 0;
   for (std::size_t i = 0; i < a.size(); ++i) mse += std::pow(double(a.data()[i]) - b.data()[i], 2);
   mse /= double(a.size());
@@ -48,7 +42,7 @@ double psnr(const Rgb8Image& a, const Rgb8Image& b) {
 }
 
 double ssim(const Rgb8Image& a, const Rgb8Image& b) {
-  require_same_size("colour panorama", a.width(), a.height(), b.width(), b.height());
+  require_same_size("SSIM", {sized("ground-truth colour", b), sized("colour panorama", a)});
   const int w = a.width(), h = a.height();
   if (w < 7 || h < 7) throw std::invalid_argument("SSIM needs images of at least 7x7 pixels");
   const double c1 = 0.01 * 0.01, c2 = 0.03 * 0.03, cov_norm = 49.0 / 48.0;
@@ -80,8 +74,8 @@ double ssim(const Rgb8Image& a, const Rgb8Image& b) {
 
 PanoramaMetrics evaluate_panorama(const Rgb8Image& rgb, const FloatImage& distance,
                                   const Rgb8Image& rgb_truth, const FloatImage& inverse_truth) {
-  require_same_size("distance panorama", distance.width(), distance.height(), inverse_truth.width(),
-                    inverse_truth.height());
+  require_same_size("evaluation", {sized("ground-truth inverse distance", inverse_truth),
+                                   sized("distance panorama", distance)});
   PanoramaMetrics m;
   const std::size_t n = distance.size();
   for (std::size_t i = 0; i < n; ++i) {
@@ -124,10 +118,9 @@ std::vector<double> remaining_mae(const std::vector<double>& error,
 
 Sparsification sparsification(const FloatImage& distance, const FloatImage& confidence,
                               const FloatImage& inverse_truth, int steps) {
-  require_same_size("distance panorama", distance.width(), distance.height(), inverse_truth.width(),
-                    inverse_truth.height());
-  require_same_size("confidence panorama", confidence.width(), confidence.height(),
-                    inverse_truth.width(), inverse_truth.height());
+  require_same_size("sparsification", {sized("ground-truth inverse distance", inverse_truth),
+                                       sized("distance panorama", distance),
+                                       sized("confidence panorama", confidence)});
   if (steps < 2) throw std::invalid_argument("sparsification: steps must be at least 2");
   const std::size_t n = distance.size();
   std::vector<double> error(n);
@@ -165,11 +158,9 @@ Sparsification sparsification(const FloatImage& distance, const FloatImage& conf
 
 double flicker(const FloatImage& previous_inverse, const FloatImage& inverse,
                const FloatImage& previous_truth, const FloatImage& truth) {
-  require_same_size("previous panorama", previous_inverse.width(), previous_inverse.height(),
-                    truth.width(), truth.height());
-  require_same_size("panorama", inverse.width(), inverse.height(), truth.width(), truth.height());
-  require_same_size("previous ground truth", previous_truth.width(), previous_truth.height(),
-                    truth.width(), truth.height());
+  require_same_size("flicker",
+                    {sized("ground truth", truth), sized("previous panorama", previous_inverse),
+                     sized("panorama", inverse), sized("previous ground truth", previous_truth)});
   double sum = 0;
   std::size_t count = 0;
   for (std::size_t i = 0; i < truth.size(); ++i) {

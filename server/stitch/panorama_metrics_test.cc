@@ -6,6 +6,9 @@
 #include <stdexcept>
 #include <vector>
 
+#include "server/stitch/same_size.h"
+#include "tests/support/test_support.h"
+
 namespace omnisweep::stitch {
 namespace {
 
@@ -54,9 +57,28 @@ TEST(SparsificationTest, AConfidenceThatRanksLikeTheErrorIsTheOracle) {
 
 TEST(SparsificationTest, BadSizesAreNamed) {
   const Fixture f;
-  EXPECT_THROW(sparsification(f.distance, image_of({1, 1}), f.truth), std::invalid_argument);
+  EXPECT_EQ(
+      omnisweep::testing::error_message<std::invalid_argument>([&] {
+        sparsification(f.distance, image_of({1, 1}), f.truth);
+      }),
+      "sparsification: the confidence panorama is 2x1, the ground-truth inverse distance 5x1");
   EXPECT_THROW(sparsification(f.distance, image_of({1, 1, 1, 1, 1}), f.truth, 1),
                std::invalid_argument);
+}
+
+// Every pass's CPU reference and every metric checks its inputs' sizes with this one message.
+TEST(SameSizeTest, NamesThePassAndTheFirstImageThatDiffers) {
+  const FloatImage a(4, 2), b(4, 2), c(2, 4), d(3, 3);
+  EXPECT_NO_THROW(require_same_size("pass", {sized("distance", a), sized("confidence", b)}));
+  EXPECT_NO_THROW(require_same_size("pass", {}));
+  EXPECT_EQ(omnisweep::testing::error_message<std::invalid_argument>([&] {
+              require_same_size("plane fill", {sized("distance", a), sized("colour", b),
+                                               sized("confidence", c), sized("other", d)});
+            }),
+            "plane fill: the confidence is 2x4, the distance 4x2");
+  EXPECT_EQ(omnisweep::testing::error_message<std::invalid_argument>(
+                [&] { psnr(Rgb8Image(4, 2), Rgb8Image(2, 2)); }),
+            "PSNR: the colour panorama is 4x2, the ground-truth colour 2x2");
 }
 
 }  // namespace

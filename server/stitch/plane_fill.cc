@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "server/stitch/panorama_rays.h"
+#include "server/stitch/same_size.h"
 
 namespace omnisweep::stitch {
 namespace {
@@ -220,9 +221,8 @@ PlaneFillParams PlaneFillParams::for_width(int width) {
 FloatImage plane_fill_cpu(const Rgb8Image& rgb, const FloatImage& distance,
                           const FloatImage& confidence, double fill_below, double min_distance,
                           double max_distance) {
-  if (rgb.width() != distance.width() || rgb.height() != distance.height() ||
-      confidence.width() != distance.width() || confidence.height() != distance.height())
-    throw std::invalid_argument("plane fill: colour, distance and confidence differ in size");
+  require_same_size("plane fill", {sized("distance", distance), sized("colour", rgb),
+                                   sized("confidence", confidence)});
   const FillPush p =
       push_for(distance.width(), distance.height(), fill_below, min_distance, max_distance);
   const std::vector<float> table = ray_table(distance.width(), distance.height());

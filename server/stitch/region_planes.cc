@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "server/stitch/region_planes_math.h"
+#include "server/stitch/same_size.h"
 
 namespace omnisweep::stitch {
 
@@ -146,11 +147,8 @@ void find_planes(Region& r, const RegionPlaneParams& p) {
 FloatImage region_planes_cpu(const FloatImage& distance, const FloatImage& confidence,
                              const RegionPlaneParams& params, double min_distance,
                              double max_distance) {
-  if (confidence.width() != distance.width() || confidence.height() != distance.height())
-    throw std::invalid_argument(
-        "region planes: the distance is " + std::to_string(distance.width()) + "x" +
-        std::to_string(distance.height()) + ", the confidence " +
-        std::to_string(confidence.width()) + "x" + std::to_string(confidence.height()));
+  require_same_size("region planes",
+                    {sized("distance", distance), sized("confidence", confidence)});
   if (!(min_distance > 0 && max_distance > min_distance))
     throw std::invalid_argument("region planes: the distance range must be 0 < min < max");
   params.check();

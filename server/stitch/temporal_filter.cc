@@ -6,6 +6,7 @@
 
 #include "omnisweep/reproject/forward_warp.h"
 #include "omnisweep/reproject/gpu_camera.h"
+#include "server/stitch/same_size.h"
 
 namespace omnisweep::stitch {
 namespace {
@@ -54,10 +55,8 @@ void temporal_filter_cpu(TemporalState& state, FloatImage& distance, const Rgb8I
                          const FloatImage& confidence, const TemporalOptions& options) {
   options.check();
   const std::size_t n = distance.size();
-  if (color.width() != distance.width() || color.height() != distance.height())
-    throw std::invalid_argument("temporal filter: colour and distance differ in size");
-  if (confidence.width() != distance.width() || confidence.height() != distance.height())
-    throw std::invalid_argument("temporal filter: confidence and distance differ in size");
+  require_same_size("temporal filter", {sized("distance", distance), sized("colour", color),
+                                        sized("confidence", confidence)});
   std::vector<std::uint32_t> packed(n);  // as the kernels read colour (alpha is not compared)
   reproject::pack_rgba8(color, packed);
   if (state.mean_inverse.size() != n) {
