@@ -52,6 +52,7 @@ layout(push_constant) uniform Push {
   float inv_d_min;
   float inv_d_max;
   float d_max;
+  float inv_raw_agreement;  // 1 / DepthOptions::raw_agreement, 0: off
   uint distance_first;
   // kConfidentSigma only: (2^l - 0.5)^2 and the two spatial sigmas.
   float scale_sq;
@@ -136,13 +137,15 @@ void main() {
 
   Wta wta0, wta1, wta2, wta3;
   Peaks peaks0, peaks1, peaks2, peaks3;
+  RawCurve raw0, raw1, raw2, raw3;
 // One child's filtered texel: stored in place, or into its winner.
-#define UP_STORE(chunk, child, filtered)                                              \
+#define UP_STORE(chunk, child, filtered, raw_costs)                                   \
   if (inside##child) {                                                                \
     if (!kWinnerTakesAll) {                                                           \
       fine[chunk].v[volume_index(slot, t, fine_plane, fine##child)] = VOLUME_T(filtered); \
     } else {                                                                          \
-      winner_texel(wta##child, peaks##child, i, push.num_candidates, filtered);       \
+      winner_raw_texel(wta##child, peaks##child, raw##child, i, push.num_candidates,  \
+                       filtered, raw_costs);                                          \
     }                                                                                 \
   }
 // Every channel of chunk c (a literal: texel arrays take constant indices, volume.glsl).
@@ -157,17 +160,21 @@ void main() {
                      n4 = VOLUME_FETCH(coarse[c], cb + i4), n5 = VOLUME_FETCH(coarse[c], cb + i5), \
                      n6 = VOLUME_FETCH(coarse[c], cb + i6), n7 = VOLUME_FETCH(coarse[c], cb + i7), \
                      n8 = VOLUME_FETCH(coarse[c], cb + i8);                                   \
-      VOLUME_V s0 = up0 * VOLUME_FETCH(fine_texels[c], fb + int(fine0));                    \
+      const VOLUME_V r0 = VOLUME_FETCH(fine_texels[c], fb + int(fine0)); /* raw */ \
+      VOLUME_V s0 = up0 * r0;                                                               \
       s0 += wa0 * n0; s0 += wa1 * n1; s0 += wa2 * n2; s0 += wa3 * n3; s0 += wa4 * n4;             \
       s0 += wa5 * n5; s0 += wa6 * n6; s0 += wa7 * n7; s0 += wa8 * n8;                            \
-      VOLUME_V s1 = up1 * VOLUME_FETCH(fine_texels[c], fb + int(fine1));                    \
+      const VOLUME_V r1 = VOLUME_FETCH(fine_texels[c], fb + int(fine1)); /* raw */ \
+      VOLUME_V s1 = up1 * r1;                                                               \
       s1 += wb0 * n4; s1 += wb1 * n5; s1 += wb2 * n1; s1 += wb3 * n2; s1 += wb4 * n7; s1 += wb5 * n8; \
-      VOLUME_V s2 = up2 * VOLUME_FETCH(fine_texels[c], fb + int(fine2));                    \
+      const VOLUME_V r2 = VOLUME_FETCH(fine_texels[c], fb + int(fine2)); /* raw */ \
+      VOLUME_V s2 = up2 * r2;                                                               \
       s2 += wc0 * n4; s2 += wc1 * n7; s2 += wc2 * n3; s2 += wc3 * n6; s2 += wc4 * n5; s2 += wc5 * n8; \
-      VOLUME_V s3 = up3 * VOLUME_FETCH(fine_texels[c], fb + int(fine3));                    \
+      const VOLUME_V r3 = VOLUME_FETCH(fine_texels[c], fb + int(fine3)); /* raw */ \
+      VOLUME_V s3 = up3 * r3;                                                               \
       s3 += wd0 * n4; s3 += wd1 * n5; s3 += wd2 * n7; s3 += wd3 * n8;                            \
-      UP_STORE(c, 0, s0 * inv0) UP_STORE(c, 1, s1 * inv1) UP_STORE(c, 2, s2 * inv2)                   \
-      UP_STORE(c, 3, s3 * inv3)                                                               \
+      UP_STORE(c, 0, s0 * inv0, r0) UP_STORE(c, 1, s1 * inv1, r1)                              \
+      UP_STORE(c, 2, s2 * inv2, r2) UP_STORE(c, 3, s3 * inv3, r3)                              \
     }                                                                                         \
   }
   FOR_EACH_CHUNK(UP_CHUNK)
@@ -180,7 +187,8 @@ void main() {
       const uint at = (push.distance_first + slot) * fine_plane + fine##child;           \
       distance_map[at] = wta_distance(wta##child, push.num_candidates, push.inv_d_min,   \
                                        push.inv_d_max, push.d_max);                       \
-      confidence_map[at] = peaks_confidence(peaks##child, wta##child, push.num_candidates);           \
+      confidence_map[at] = peaks_confidence(peaks##child, wta##child, push.num_candidates) * \
+                           raw_agreement(raw##child, push.inv_raw_agreement);           \
     } else {                                                                              \
       fine_guide[guide_base + fine##child] =                                              \
           round_guide(guide_sum##child * inv##child) |                                    \

@@ -296,11 +296,12 @@ void DepthEstimator::record_group(gpu::Sequence& seq, int first, bool filter, bo
     const IsbParams params{options_.sigma_i, options_.scaled_sigma_s(),
                            options_.scaled_confident_sigma_s()};
     if (fused_winner) {
-      filter_.record_winner_take_all(seq, guide_, volume_, params, distances_.chunks()[0],
-                                     confidences_,
-                                     {std::uint32_t(options_.num_candidates), inv_d_min, inv_d_max,
-                                      float(options_.max_distance)},
-                                     first, first);
+      filter_.record_winner_take_all(
+          seq, guide_, volume_, params, distances_.chunks()[0], confidences_,
+          {std::uint32_t(options_.num_candidates), inv_d_min, inv_d_max,
+           float(options_.max_distance),
+           options_.raw_agreement > 0 ? float(1.0 / options_.raw_agreement) : 0.0f},
+          first, first);
       if (options_.coarse_agreement > 0) record_coarse_agreement(seq, first, false);
     } else {
       filter_.record(seq, guide_, volume_, params, first);

@@ -104,17 +104,25 @@ TEST_F(DepthEstimatorTest, RawCostIsMinimalAtTheTrueCandidateOnTexturedPixels) {
   }
 }
 
+// Options for checks against the CPU of the winner in the ISB filter's last pass: n x n
+// matching, no post-filter, 32-bit costs, the curve's own confidence (no coarse or raw agreement).
+DepthOptions unfiltered_cpu_check_options(int n) {
+  DepthOptions options;
+  options.matching_width = options.matching_height = n;
+  options.post_filter = false;
+  options.half_costs = false;
+  options.coarse_agreement = 0;
+  options.raw_agreement = 0;
+  return options;
+}
+
 // estimate() takes the winner inside the filter's last pass (isb_upsample.comp with
 // kWinnerTakesAll); the CPU takes it from the volume the unfused filter leaves. 32-bit costs: the
 // unfused filter's 16-bit store of its last pass (which the fused winner never sees) would flip
 // near-ties (what 16-bit costs do to accuracy: HalfCostsKeepTheAccuracy).
 TEST_F(DepthEstimatorTest, WinnerTakesAllEqualsCpu) {
   const auto scene = fixtures::render_depth_case(96);
-  DepthOptions options;
-  options.matching_width = options.matching_height = 96;
-  options.post_filter = false;
-  options.half_costs = false;
-  options.coarse_agreement = 0;  // the curve's own confidence
+  DepthOptions options = unfiltered_cpu_check_options(96);
   DepthEstimator estimator(context(), scene.rig.rig(), scene.usable, options);
   const auto filtered = estimator.cost_volume(scene.image_views(), 0, true);
   const DepthResult result = estimator.estimate(scene.image_views());
@@ -151,11 +159,7 @@ TEST_F(DepthEstimatorTest, WinnerTakesAllEqualsCpu) {
 TEST_F(DepthEstimatorTest, ConfidentSigmaEqualsCpu) {
   const int n = 96;
   const auto scene = fixtures::render_depth_case(n);
-  DepthOptions options;
-  options.matching_width = options.matching_height = n;
-  options.post_filter = false;
-  options.half_costs = false;
-  options.coarse_agreement = 0;
+  DepthOptions options = unfiltered_cpu_check_options(n);
   options.confident_sigma_s = 12;
   DepthEstimator estimator(context(), scene.rig.rig(), scene.usable, options);
   const auto raw = estimator.cost_volume(scene.image_views(), 0, false);
@@ -225,6 +229,51 @@ TEST_F(DepthEstimatorTest, CoarseAgreementEqualsCpu) {
     EXPECT_GT(mean_factor, 0.5);  // most pixels agree with their block
     EXPECT_GT(lowered, 0);        // and some do not: edges between near and far surfaces
   }
+}
+
+// The raw agreement (wta.glsl): the fused winner follows each pixel's raw curve too, and the
+// confidence with it is the confidence without it times raw_agreement_cpu's factor, from the raw
+// volume and the unfused filter's (32-bit costs, so the two filters pick the same candidates but
+// at near-ties); the distances stay the same.
+TEST_F(DepthEstimatorTest, RawAgreementEqualsCpu) {
+  const int n = 96;
+  const auto scene = fixtures::render_depth_case(n);
+  DepthOptions options = unfiltered_cpu_check_options(n);
+  DepthEstimator plain(context(), scene.rig.rig(), scene.usable, options);
+  const DepthResult without = plain.estimate(scene.image_views());
+  options.raw_agreement = 0.3;
+  DepthEstimator estimator(context(), scene.rig.rig(), scene.usable, options);
+  const auto raw = estimator.cost_volume(scene.image_views(), 0, false);
+  const auto filtered = estimator.cost_volume(scene.image_views(), 0, true);
+  const DepthResult with = estimator.estimate(scene.image_views());
+  const int candidates = options.num_candidates;
+  int close = 0, lowered = 0;
+  for (int p = 0; p < n * n; ++p) {
+    ASSERT_EQ(with.distance[0].data()[p], without.distance[0].data()[p]) << p;
+    const std::size_t at = std::size_t(p) * candidates;
+    const float factor =
+        raw_agreement_cpu(&filtered[at], &raw[at], candidates, options.raw_agreement);
+    const float want = without.confidence[0].data()[p] * factor;
+    close += std::abs(with.confidence[0].data()[p] - want) < 1e-4f;
+    lowered += factor < 0.5f;
+  }
+  std::cout << "raw agreement vs CPU: " << 100.0 * close / (n * n) << " % of pixels within 1e-4; "
+            << lowered << " pixels with a factor below 0.5\n";
+  EXPECT_GE(close, n * n * 995 / 1000);
+  EXPECT_GT(lowered, n * n / 200);  // the filter carries distances in somewhere
+  EXPECT_LT(lowered, n * n / 2);    // but most pixels' own curves agree
+}
+
+// The raw agreement's factor on curves whose answer is known.
+TEST(RawAgreement, OfKnownCurves) {
+  const std::vector<float> raw = {4, 1, 3, 5};  // lowest 1, highest 5: power 0.8
+  const std::vector<float> agrees = {3, 1, 2, 3}, disputes = {3, 2, 1, 3};
+  EXPECT_FLOAT_EQ(raw_agreement_cpu(agrees.data(), raw.data(), 4, 0.3), 1.0f);
+  const float x = (3.0f - 1.0f) / 4.0f * 0.8f / 0.3f;  // raw[2] is halfway up
+  EXPECT_FLOAT_EQ(raw_agreement_cpu(disputes.data(), raw.data(), 4, 0.3), std::exp(-x * x));
+  EXPECT_FLOAT_EQ(raw_agreement_cpu(disputes.data(), raw.data(), 4, 0), 1.0f);  // off
+  const std::vector<float> flat = {2, 2, 2, 2};
+  EXPECT_FLOAT_EQ(raw_agreement_cpu(disputes.data(), flat.data(), 4, 0.3), 1.0f);
 }
 
 // The confidence on curves whose answer is known: sqrt(peak ratio x sharpness).

@@ -106,6 +106,9 @@ void DepthOptions::check(int num_cameras) const {
   if (!(coarse_agreement >= 0) || !std::isfinite(coarse_agreement))
     fail("coarse-agreement: " + std::to_string(coarse_agreement) +
          " must be 0 (off) or a positive tolerance in m^-1");
+  if (!(raw_agreement >= 0) || !std::isfinite(raw_agreement))
+    fail("raw-agreement: " + std::to_string(raw_agreement) +
+         " must be 0 (off) or a positive tolerance");
   if (!(second_camera_power > 0 && second_camera_power <= 1))
     fail("second-camera-power: " + std::to_string(second_camera_power) + " must be within (0, 1]");
   if (matching_width < 8 || matching_height < 8 || matching_width > 8192 ||

@@ -411,6 +411,17 @@ float winner_take_all_cpu(const float* costs, const DepthOptions& options) {
   return float(1.0 / options.inverse_distance(best + delta));
 }
 
+float raw_agreement_cpu(const float* filtered, const float* raw, int n, double tolerance) {
+  if (tolerance <= 0) return 1.0f;
+  const int best = int(std::min_element(filtered, filtered + n) - filtered);  // the first lowest
+  const auto [lo, hi] = std::minmax_element(raw, raw + n);
+  const float range = *hi - *lo;
+  const float d = range > 0 ? (raw[best] - *lo) / range : 0.0f;
+  const float power = *hi > 0 ? 1.0f - *lo / *hi : 0.0f;
+  const float x = float(d * power / tolerance);
+  return std::exp(-x * x);
+}
+
 float cost_confidence_cpu(const float* costs, int n) {
   // Local minima: no higher than the next candidate, lower than the one before (one neighbour
   // at the ends), so a plateau counts once.

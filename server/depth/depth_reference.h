@@ -77,6 +77,12 @@ float winner_take_all_cpu(const float* costs, const DepthOptions& options);
 // first lowest candidate, one-sided at the ends).
 float cost_confidence_cpu(const float* costs, int n);
 
+// The raw agreement factor (wta.glsl) of one pixel: its filtered curve's first lowest candidate
+// i*, and its raw curve (`raw`, the same N candidates before the filter) with lowest L and
+// highest H: exp(-(d p / tolerance)^2), d = (raw[i*] - L) / (H - L) (0 where H = L), p = 1 - L / H
+// (0 where H is 0). 1 where tolerance is 0 (off).
+float raw_agreement_cpu(const float* filtered, const float* raw, int n, double tolerance);
+
 // The coarse agreement factor (coarse_agreement.comp) of every pixel of a width x height distance
 // map (metres), from the ISB filter's level 1 (level_width x level_height pixels of N costs,
 // level[p * N + i]): exp(-(delta / options.coarse_agreement)^2), delta between the pixel's inverse

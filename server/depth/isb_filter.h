@@ -28,6 +28,9 @@ struct IsbParams {
 struct WtaParams {
   std::uint32_t num_candidates = 32;
   float inv_d_min = 0, inv_d_max = 0, d_max = 0;
+  // 1 / DepthOptions::raw_agreement: the confidence's factor from the raw curve at the filtered
+  // winner (wta.glsl, raw_agreement_cpu); 0: off.
+  float inv_raw_agreement = 0;
 };
 
 // L = floor(min(log2 W, log2 H)) - 1 levels including full resolution (at least 1).

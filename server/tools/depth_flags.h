@@ -150,6 +150,11 @@ inline void add_depth_flags(CLI::App& app, depth::DepthOptions& options, std::st
                  "Lower the confidence where the distance disagrees with its 8x8 block's filtered "
                  "winner: tolerance in m^-1 (default 0.03; 0 turns it off; docs/accuracy.md)")
       ->check(CLI::Range(0.0, 1e3));
+  app.add_option("--raw-agreement", options.raw_agreement,
+                 "Lower the confidence where the filtered distance sits high on the pixel's own "
+                 "raw cost curve, so the stitcher's fills replace it: tolerance (default 0.3; 0 "
+                 "turns it off; docs/accuracy.md)")
+      ->check(CLI::Range(0.0, 1e3));
   app.add_option(
       "--vk-device", device,
       "Vulkan device: index or name substring (default: OMNISWEEP_VK_DEVICE, else the best)");

@@ -103,6 +103,37 @@ float peaks_confidence(Peaks s, Wta w, uint n) {
   return sqrt(ratio * sharpness);
 }
 
+// The raw agreement (DepthOptions::raw_agreement, docs/accuracy.md): the fused winner also follows
+// the raw curve (the sweep's costs before the filter) of the same pixel. Where the filtered
+// curve's winner sits high on a raw curve that discriminates, the filter carried that distance in
+// from elsewhere; the confidence is multiplied by exp(-(d p / t)^2), with d the raw cost at the
+// winner within the raw curve's range (0 at its lowest, 1 at its highest), p = 1 - lowest /
+// highest the raw curve's power (0 for a flat one) and t the tolerance, so the stitcher's fills
+// replace such distances.
+struct RawCurve {
+  float at_best, lowest, highest;
+};
+
+// Raw cost r of candidate i of n, after the winner `wta` took the filtered cost of the same one.
+void raw_candidate(inout RawCurve s, Wta wta, uint i, uint n, float r) {
+  if (i == 0u) {
+    s = RawCurve(r, r, r);
+  } else if (i < n) {
+    if (wta.best == i) s.at_best = r;
+    s.lowest = min(s.lowest, r);
+    s.highest = max(s.highest, r);
+  }
+}
+
+// The factor in (0, 1]; 1 where inv_tolerance is 0 (off).
+float raw_agreement(RawCurve s, float inv_tolerance) {
+  const float range = s.highest - s.lowest;
+  const float d = range > 0.0 ? (s.at_best - s.lowest) / range : 0.0;
+  const float power = s.highest > 0.0 ? 1.0 - s.lowest / s.highest : 0.0;
+  const float x = d * power * inv_tolerance;
+  return exp(-x * x);
+}
+
 #ifdef VOLUME_V
 // Candidate i of n with cost c into the winner and the confidence.
 void winner_candidate(inout Wta wta, inout Peaks peaks, uint i, uint n, float c) {
@@ -119,6 +150,24 @@ void winner_texel(inout Wta wta, inout Peaks peaks, uint i, uint n, VOLUME_V c) 
   winner_candidate(wta, peaks, i + 3u, n, c.w);
 #else
   winner_candidate(wta, peaks, i, n, c);
+#endif
+}
+
+// The same with the raw costs r of the texel's candidates, for the raw agreement.
+void winner_raw_texel(inout Wta wta, inout Peaks peaks, inout RawCurve raw, uint i, uint n,
+                      VOLUME_V c, VOLUME_V r) {
+#if VOLUME_PACK == 4
+  winner_candidate(wta, peaks, i, n, c.x);
+  raw_candidate(raw, wta, i, n, r.x);
+  winner_candidate(wta, peaks, i + 1u, n, c.y);
+  raw_candidate(raw, wta, i + 1u, n, r.y);
+  winner_candidate(wta, peaks, i + 2u, n, c.z);
+  raw_candidate(raw, wta, i + 2u, n, r.z);
+  winner_candidate(wta, peaks, i + 3u, n, c.w);
+  raw_candidate(raw, wta, i + 3u, n, r.w);
+#else
+  winner_candidate(wta, peaks, i, n, c);
+  raw_candidate(raw, wta, i, n, r);
 #endif
 }
 #endif
