@@ -89,8 +89,10 @@ struct DepthOptions {
   // exp(-(d p / t)^2), d where the filtered winner's raw cost (the sweep's, before the filter)
   // lies in the raw curve's range, p the raw curve's power (1 - lowest / highest), t this
   // tolerance: low where the filter carried a distance that the pixel's own curve disputes, so
-  // the stitcher's fills replace it. The distances do not change. 0: off.
-  double raw_agreement = 0.3;
+  // the stitcher's fills replace it. The distances do not change. 0: off, the default: 0.3 gains
+  // 10-37 % on rendered frames with noise but speckles the real kaist-rig frame's confidence and
+  // its fills (docs/accuracy.md, stop 44).
+  double raw_agreement = 0;
 
   void check(int num_cameras) const;
   // A radius given for 1024 px at the matching width (at least 1 pixel).
@@ -112,10 +114,10 @@ struct DepthOptions {
 // sigma, the ISB filter's spatial sigma, and the stitcher's plane fill and region planes) at once;
 // every other option keeps its value. "paper" is ALGORITHM.md, DepthOptions' and StitchOptions'
 // defaults; "recommended" the matching variants alone; "accurate" the most accurate variant
-// measured and the programs' default (docs/accuracy.md, "Defaults"; with the raw agreement, a
-// DepthOptions default): 37 % lower MAE than the paper's on blender-hall, 51-55 % on the
-// synthetic frames, 8-35 % with sensor noise (mean 23 % over four seeds), and under lenses with
-// different gains and vignetting within 1.11 x of its MAE without them (with noise).
+// measured and the programs' default (docs/accuracy.md, "Defaults"): 27 % lower MAE than the
+// paper's on blender-hall, 54 % on the synthetic frames, 11-19 % with sensor noise, and under
+// lenses with different gains and vignetting within 1.11-1.19 x of its MAE without them (with
+// noise).
 struct Method {
   std::string_view name;
   MatchingCost cost;

@@ -152,8 +152,8 @@ inline void add_depth_flags(CLI::App& app, depth::DepthOptions& options, std::st
       ->check(CLI::Range(0.0, 1e3));
   app.add_option("--raw-agreement", options.raw_agreement,
                  "Lower the confidence where the filtered distance sits high on the pixel's own "
-                 "raw cost curve, so the stitcher's fills replace it: tolerance (default 0.3; 0 "
-                 "turns it off; docs/accuracy.md)")
+                 "raw cost curve, so the stitcher's fills replace it: tolerance, e.g. 0.3 "
+                 "(default 0: off; docs/accuracy.md)")
       ->check(CLI::Range(0.0, 1e3));
   app.add_option(
       "--vk-device", device,
