@@ -138,14 +138,18 @@ void main() {
   Wta wta0, wta1, wta2, wta3;
   Peaks peaks0, peaks1, peaks2, peaks3;
   RawCurve raw0, raw1, raw2, raw3;
+  // The raw curves are followed only where the raw agreement is on (a uniform branch).
+  const bool raw_agreement_on = kWinnerTakesAll && push.inv_raw_agreement > 0.0;
 // One child's filtered texel: stored in place, or into its winner.
 #define UP_STORE(chunk, child, filtered, raw_costs)                                   \
   if (inside##child) {                                                                \
     if (!kWinnerTakesAll) {                                                           \
       fine[chunk].v[volume_index(slot, t, fine_plane, fine##child)] = VOLUME_T(filtered); \
-    } else {                                                                          \
+    } else if (raw_agreement_on) {                                                    \
       winner_raw_texel(wta##child, peaks##child, raw##child, i, push.num_candidates,  \
                        filtered, raw_costs);                                          \
+    } else {                                                                          \
+      winner_texel(wta##child, peaks##child, i, push.num_candidates, filtered);       \
     }                                                                                 \
   }
 // Every channel of chunk c (a literal: texel arrays take constant indices, volume.glsl).
@@ -188,7 +192,8 @@ void main() {
       distance_map[at] = wta_distance(wta##child, push.num_candidates, push.inv_d_min,   \
                                        push.inv_d_max, push.d_max);                       \
       confidence_map[at] = peaks_confidence(peaks##child, wta##child, push.num_candidates) * \
-                           raw_agreement(raw##child, push.inv_raw_agreement);           \
+                           (raw_agreement_on ? raw_agreement(raw##child, push.inv_raw_agreement) \
+                                             : 1.0);                                   \
     } else {                                                                              \
       fine_guide[guide_base + fine##child] =                                              \
           round_guide(guide_sum##child * inv##child) |                                    \

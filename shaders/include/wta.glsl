@@ -125,7 +125,7 @@ void raw_candidate(inout RawCurve s, Wta wta, uint i, uint n, float r) {
   }
 }
 
-// The factor in (0, 1]; 1 where inv_tolerance is 0 (off).
+// The factor in (0, 1], for a positive inv_tolerance (1 / the tolerance).
 float raw_agreement(RawCurve s, float inv_tolerance) {
   const float range = s.highest - s.lowest;
   const float d = range > 0.0 ? (s.at_best - s.lowest) / range : 0.0;
