@@ -192,7 +192,7 @@ void main() {
       distance_map[at] = wta_distance(wta##child, push.num_candidates, push.inv_d_min,   \
                                        push.inv_d_max, push.d_max);                       \
       confidence_map[at] = peaks_confidence(peaks##child, wta##child, push.num_candidates) * \
-                           (raw_agreement_on ? raw_agreement(raw##child, push.inv_raw_agreement) \
+                           (raw_agreement_on ? raw_agreement(raw##child, wta##child.best, push.inv_raw_agreement) \
                                              : 1.0);                                   \
     } else {                                                                              \
       fine_guide[guide_base + fine##child] =                                              \

@@ -274,6 +274,10 @@ TEST(RawAgreement, OfKnownCurves) {
   EXPECT_FLOAT_EQ(raw_agreement_cpu(disputes.data(), raw.data(), 4, 0), 1.0f);  // off
   const std::vector<float> flat = {2, 2, 2, 2};
   EXPECT_FLOAT_EQ(raw_agreement_cpu(disputes.data(), flat.data(), 4, 0.3), 1.0f);
+  // Candidate 0 is the nearest: a raw curve whose lowest lies beyond the filtered winner is not
+  // heard, however high the winner sits on it.
+  const std::vector<float> nearer = {1, 3, 3, 3};
+  EXPECT_FLOAT_EQ(raw_agreement_cpu(nearer.data(), raw.data(), 4, 0.3), 1.0f);
 }
 
 // The confidence on curves whose answer is known: sqrt(peak ratio x sharpness).

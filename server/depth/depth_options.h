@@ -85,13 +85,14 @@ struct DepthOptions {
   // exp(-(delta / t)^2), delta (m^-1) between its inverse distance and the winner of the filtered
   // curves summed over its 8 x 8 block. 0: off (the confidence of the cost curve alone).
   double coarse_agreement = 0.03;
-  // The confidence's raw agreement (docs/accuracy.md): each pixel's confidence times
-  // exp(-(d p / t)^2), d where the filtered winner's raw cost (the sweep's, before the filter)
-  // lies in the raw curve's range, p the raw curve's power (1 - lowest / highest), t this
-  // tolerance: low where the filter carried a distance that the pixel's own curve disputes, so
-  // the stitcher's fills replace it. The distances do not change. 0: off, the default: 0.3 gains
-  // 10-37 % on rendered frames with noise but speckles the real kaist-rig frame's confidence and
-  // its fills (docs/accuracy.md, stop 44).
+  // The confidence's raw agreement (docs/accuracy.md): where the pixel's raw curve (the sweep's
+  // costs, before the filter) has its lowest nearer than the filtered winner, its confidence
+  // times exp(-(d p / t)^2), d where the filtered winner's raw cost lies in the raw curve's
+  // range, p the raw curve's power (1 - lowest / highest), t this tolerance: low where the
+  // filter carried a farther distance that the pixel's own curve disputes, so the stitcher's
+  // fills replace it. The distances do not change. 0: off, the default: 0.2-0.3 gain 10-48 % on
+  // rendered frames but lower how well the confidence ranks the error, and the real kaist-rig
+  // frame's fills still turn its speckles into near patches (docs/accuracy.md, stops 44-45).
   double raw_agreement = 0;
 
   void check(int num_cameras) const;

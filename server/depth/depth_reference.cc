@@ -414,7 +414,8 @@ float winner_take_all_cpu(const float* costs, const DepthOptions& options) {
 float raw_agreement_cpu(const float* filtered, const float* raw, int n, double tolerance) {
   if (tolerance <= 0) return 1.0f;
   const int best = int(std::min_element(filtered, filtered + n) - filtered);  // the first lowest
-  const auto [lo, hi] = std::minmax_element(raw, raw + n);
+  const auto [lo, hi] = std::minmax_element(raw, raw + n);  // lo: the first lowest
+  if (lo - raw >= best) return 1.0f;  // the raw curve puts the surface no nearer
   const float range = *hi - *lo;
   const float d = range > 0 ? (raw[best] - *lo) / range : 0.0f;
   const float power = *hi > 0 ? 1.0f - *lo / *hi : 0.0f;

@@ -78,9 +78,10 @@ float winner_take_all_cpu(const float* costs, const DepthOptions& options);
 float cost_confidence_cpu(const float* costs, int n);
 
 // The raw agreement factor (wta.glsl) of one pixel: its filtered curve's first lowest candidate
-// i*, and its raw curve (`raw`, the same N candidates before the filter) with lowest L and
-// highest H: exp(-(d p / tolerance)^2), d = (raw[i*] - L) / (H - L) (0 where H = L), p = 1 - L / H
-// (0 where H is 0). 1 where tolerance is 0 (off).
+// i*, and its raw curve (`raw`, the same N candidates before the filter) with lowest L (first at
+// candidate j) and highest H: where j < i* (the raw curve puts the surface nearer),
+// exp(-(d p / tolerance)^2), d = (raw[i*] - L) / (H - L) (0 where H = L), p = 1 - L / H (0 where
+// H is 0); 1 where j >= i* or tolerance is 0 (off).
 float raw_agreement_cpu(const float* filtered, const float* raw, int n, double tolerance);
 
 // The coarse agreement factor (coarse_agreement.comp) of every pixel of a width x height distance

@@ -151,8 +151,9 @@ inline void add_depth_flags(CLI::App& app, depth::DepthOptions& options, std::st
                  "winner: tolerance in m^-1 (default 0.03; 0 turns it off; docs/accuracy.md)")
       ->check(CLI::Range(0.0, 1e3));
   app.add_option("--raw-agreement", options.raw_agreement,
-                 "Lower the confidence where the filtered distance sits high on the pixel's own "
-                 "raw cost curve, so the stitcher's fills replace it: tolerance, e.g. 0.3 "
+                 "Lower the confidence where the pixel's own raw cost curve puts the surface "
+                 "nearer than the filtered distance, so the stitcher's fills replace it: "
+                 "tolerance, e.g. 0.2 "
                  "(default 0: off; docs/accuracy.md)")
       ->check(CLI::Range(0.0, 1e3));
   app.add_option(

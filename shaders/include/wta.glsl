@@ -105,28 +105,35 @@ float peaks_confidence(Peaks s, Wta w, uint n) {
 
 // The raw agreement (DepthOptions::raw_agreement, docs/accuracy.md): the fused winner also follows
 // the raw curve (the sweep's costs before the filter) of the same pixel. Where the filtered
-// curve's winner sits high on a raw curve that discriminates, the filter carried that distance in
-// from elsewhere; the confidence is multiplied by exp(-(d p / t)^2), with d the raw cost at the
-// winner within the raw curve's range (0 at its lowest, 1 at its highest), p = 1 - lowest /
-// highest the raw curve's power (0 for a flat one) and t the tolerance, so the stitcher's fills
-// replace such distances.
+// curve's winner sits high on a raw curve that discriminates and whose lowest candidate is nearer
+// (a lower index), the filter may have carried a farther distance over a near structure (a pole,
+// a leg, the near side of an edge);
+// the confidence is multiplied by exp(-(d p / t)^2), with d the raw cost at the winner within the
+// raw curve's range (0 at its lowest, 1 at its highest), p = 1 - lowest / highest the raw curve's
+// power (0 for a flat one) and t the tolerance, so the stitcher's fills replace such distances.
+// A raw curve that puts the surface farther is not heard: on a real glossy floor reflections lie
+// beyond it, and disputing those covered kaist-rig's floor in fills (docs/accuracy.md, stop 45).
 struct RawCurve {
   float at_best, lowest, highest;
+  uint lowest_at;
 };
 
 // Raw cost r of candidate i of n, after the winner `wta` took the filtered cost of the same one.
 void raw_candidate(inout RawCurve s, Wta wta, uint i, uint n, float r) {
   if (i == 0u) {
-    s = RawCurve(r, r, r);
+    s = RawCurve(r, r, r, 0u);
   } else if (i < n) {
     if (wta.best == i) s.at_best = r;
+    if (r < s.lowest) s.lowest_at = i;
     s.lowest = min(s.lowest, r);
     s.highest = max(s.highest, r);
   }
 }
 
-// The factor in (0, 1], for a positive inv_tolerance (1 / the tolerance).
-float raw_agreement(RawCurve s, float inv_tolerance) {
+// The factor in (0, 1] for the filtered winner `best`, for a positive inv_tolerance (1 / the
+// tolerance).
+float raw_agreement(RawCurve s, uint best, float inv_tolerance) {
+  if (s.lowest_at >= best) return 1.0;
   const float range = s.highest - s.lowest;
   const float d = range > 0.0 ? (s.at_best - s.lowest) / range : 0.0;
   const float power = s.highest > 0.0 ? 1.0 - s.lowest / s.highest : 0.0;
