@@ -90,9 +90,10 @@ struct DepthOptions {
   // times exp(-(d p / t)^2), d where the filtered winner's raw cost lies in the raw curve's
   // range, p the raw curve's power (1 - lowest / highest), t this tolerance: low where the
   // filter carried a farther distance that the pixel's own curve disputes, so the stitcher's
-  // fills replace it. The distances do not change. 0: off, the default: 0.2-0.3 gain 10-48 % on
-  // rendered frames but lower how well the confidence ranks the error, and the real kaist-rig
-  // frame's fills still turn its speckles into near patches (docs/accuracy.md, stops 44-45).
+  // fills replace it. The distances do not change. 0: off, the default: 0.2-0.3 take
+  // blender-hall 37-48 % under the paper's MAE (the default 27 %) but lower how well the
+  // confidence ranks the error, and the real kaist-rig frame's fills still turn its speckles into
+  // near patches (docs/accuracy.md, stops 44-45).
   double raw_agreement = 0;
 
   void check(int num_cameras) const;
