@@ -512,14 +512,12 @@ TEST_F(Ros2Test, FoxgloveClientsSeeTheStreamLive) {
       server_command(" --foxglove-port 0 --foxglove-address 127.0.0.1 --foxglove-client-queue "
                      "65536 --ros-points 64 32 --log-interval 1"),
       dir_.path() / "server.log");
-  std::smatch match;
   const std::regex address("ws://127\\.0\\.0\\.1:([0-9]+)");
   const auto deadline = Clock::now() + std::chrono::seconds(120);
-  std::string log;
-  while (!std::regex_search(log = server.log(), match, address) && Clock::now() < deadline &&
-         server.running())
-    std::this_thread::sleep_for(std::chrono::milliseconds(50));
-  ASSERT_FALSE(match.empty()) << log;
+  ASSERT_TRUE(server.wait_for_log(address, 120)) << server.log();
+  std::string log = server.log();
+  std::smatch match;
+  ASSERT_TRUE(std::regex_search(log, match, address)) << log;
   ASSERT_TRUE(stream.wait_for_first(deadline, server)) << server.log();
   const std::string url = "ws://127.0.0.1:" + match[1].str();
   const std::string client = "node " + (node_dir / "foxglove_client.mjs").string() + " ";

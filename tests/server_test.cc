@@ -206,9 +206,7 @@ TEST_F(ServerTest, SigtermStopsWithinOneSecondWithExitCodeZero) {
     BackgroundProcess server(server_command(" --log-interval 1"),
                              dir_.path() / ("server_" + std::to_string(signal) + ".log"));
     // Wait until frames flow, so the signal lands while every stage is busy.
-    for (int i = 0; i < 600 && !std::regex_search(server.log(), flowing); ++i)
-      std::this_thread::sleep_for(std::chrono::milliseconds(100));
-    ASSERT_TRUE(std::regex_search(server.log(), flowing)) << server.log();
+    ASSERT_TRUE(server.wait_for_log(flowing, 60)) << server.log();
     ASSERT_TRUE(server.running()) << server.log();
     double seconds = 0;
     EXPECT_EQ(server.stop(signal, 5, &seconds), 0) << server.log();

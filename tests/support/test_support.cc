@@ -127,4 +127,14 @@ std::string BackgroundProcess::log() const {
   return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
 }
 
+bool BackgroundProcess::wait_for_log(const std::regex& pattern, double timeout_s) {
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout_s);
+  for (;;) {
+    const bool was_running = running();  // before the read, so its last lines are read too
+    if (std::regex_search(log(), pattern)) return true;
+    if (!was_running || std::chrono::steady_clock::now() >= deadline) return false;
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+}
+
 }  // namespace omnisweep::testing

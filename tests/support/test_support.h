@@ -2,6 +2,7 @@
 #pragma once
 
 #include <filesystem>
+#include <regex>
 #include <string>
 
 namespace omnisweep::testing {
@@ -57,6 +58,9 @@ class BackgroundProcess {
   // -2: killed by a signal) and the seconds it took in *seconds.
   int stop(int signal, double timeout_s, double* seconds);
   std::string log() const;
+  // Waits up to `timeout_s` for the log to hold `pattern`; false at the limit or once the process
+  // has ended without it.
+  bool wait_for_log(const std::regex& pattern, double timeout_s);
   // Sends `signal` without waiting (SIGSTOP / SIGCONT to freeze and resume it).
   void signal(int signal);
 
