@@ -191,9 +191,11 @@ void main() {
       const uint at = (push.distance_first + slot) * fine_plane + fine##child;           \
       distance_map[at] = wta_distance(wta##child, push.num_candidates, push.inv_d_min,   \
                                        push.inv_d_max, push.d_max);                       \
-      confidence_map[at] = peaks_confidence(peaks##child, wta##child, push.num_candidates) * \
-                           (raw_agreement_on ? raw_agreement(raw##child, wta##child.best, push.inv_raw_agreement) \
-                                             : 1.0);                                   \
+      confidence_map[at] =                                                                \
+          peaks_confidence(peaks##child, wta##child, push.num_candidates) *               \
+          (raw_agreement_on                                                               \
+               ? raw_agreement(raw##child, wta##child.best, push.inv_raw_agreement)       \
+               : 1.0);                                                                    \
     } else {                                                                              \
       fine_guide[guide_base + fine##child] =                                              \
           round_guide(guide_sum##child * inv##child) |                                    \

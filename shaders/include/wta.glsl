@@ -107,10 +107,10 @@ float peaks_confidence(Peaks s, Wta w, uint n) {
 // the raw curve (the sweep's costs before the filter) of the same pixel. Where the filtered
 // curve's winner sits high on a raw curve that discriminates and whose lowest candidate is nearer
 // (a lower index), the filter may have carried a farther distance over a near structure (a pole,
-// a leg, the near side of an edge);
-// the confidence is multiplied by exp(-(d p / t)^2), with d the raw cost at the winner within the
-// raw curve's range (0 at its lowest, 1 at its highest), p = 1 - lowest / highest the raw curve's
-// power (0 for a flat one) and t the tolerance, so the stitcher's fills replace such distances.
+// a leg, the near side of an edge); the confidence is multiplied by exp(-(d p / t)^2), with d the
+// raw cost at the winner within the raw curve's range (0 at its lowest, 1 at its highest),
+// p = 1 - lowest / highest the raw curve's power (0 for a flat one) and t the tolerance, so the
+// stitcher's fills replace such distances.
 // A raw curve that puts the surface farther is not heard: on a real glossy floor reflections lie
 // beyond it, and disputing those covered kaist-rig's floor in fills (docs/accuracy.md, stop 45).
 struct RawCurve {
