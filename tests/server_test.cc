@@ -215,6 +215,33 @@ TEST_F(ServerTest, SigtermStopsWithinOneSecondWithExitCodeZero) {
   }
 }
 
+// A signal while the server builds its GPU pipelines (seconds on lavapipe) stops it without
+// starting the stages; a second one exits at once, as a user pressing Ctrl-C twice expects.
+TEST_F(ServerTest, SignalDuringStartUpStopsBeforeTheFirstFrame) {
+  const std::regex opened("source: "), waits("during start-up; stopping once"),
+      stopped("stopping before the first frame");
+  {
+    BackgroundProcess server(server_command(), dir_.path() / "start_up_once.log");
+    ASSERT_TRUE(server.wait_for_log(opened, 60)) << server.log();  // the pipelines come next
+    double seconds = 0;
+    EXPECT_EQ(server.stop(SIGTERM, 120, &seconds), 0) << server.log();
+    EXPECT_TRUE(std::regex_search(server.log(), waits)) << server.log();
+    EXPECT_TRUE(std::regex_search(server.log(), stopped)) << server.log();
+    EXPECT_EQ(server.log().find("publishing"), std::string::npos) << server.log();
+    std::cout << "SIGTERM in the start-up -> exit 0 in " << seconds * 1000 << " ms\n";
+  }
+  BackgroundProcess server(server_command(), dir_.path() / "start_up_twice.log");
+  ASSERT_TRUE(server.wait_for_log(opened, 60)) << server.log();
+  server.signal(SIGINT);
+  ASSERT_TRUE(server.wait_for_log(waits, 10)) << server.log();
+  double seconds = 0;
+  EXPECT_EQ(server.stop(SIGINT, 5, &seconds), 128 + SIGINT) << server.log();
+  EXPECT_LT(seconds, 1.0) << server.log();
+  EXPECT_TRUE(std::regex_search(server.log(), std::regex("Interrupt again, exiting now")))
+      << server.log();
+  std::cout << "a second SIGINT -> exit " << 128 + SIGINT << " in " << seconds * 1000 << " ms\n";
+}
+
 TEST_F(ServerTest, BadInputGivesAClearErrorAndNonZeroExit) {
   const std::string server = (testing::bin_dir() / "omnisweep-server").string();
   struct Case {

@@ -2,9 +2,8 @@
 // panoramas over DDS (docs/deploy.md, docs/wire-format.md). Runs until SIGINT / SIGTERM (or
 // --frames N), and stops within a second.
 #include <CLI/CLI.hpp>
-#include <csignal>
 #include <cstdio>
-#include <ctime>
+#include <cstring>
 
 #include "client_sdk/tools/cli_checks.h"
 #include "client_sdk/tools/dds_flags.h"
@@ -16,6 +15,7 @@
 #include "server/pipeline/rgbd_server.h"
 #include "server/tools/depth_flags.h"
 #include "server/tools/stitch_flags.h"
+#include "server/tools/stop_signals.h"
 
 namespace {
 
@@ -107,15 +107,19 @@ int run(int argc, char** argv) {
     if (app.count("--max-frame-bytes") == 0) options.max_frame_bytes = codec::kLightFrameBytes;
   }
 
-  // SIGINT and SIGTERM are taken by sigtimedwait below; block them before any thread starts
-  // (Fast DDS, the GPU driver, the stages), so every thread inherits the mask.
-  sigset_t signals;
-  sigemptyset(&signals);
-  sigaddset(&signals, SIGINT);
-  sigaddset(&signals, SIGTERM);
-  pthread_sigmask(SIG_BLOCK, &signals, nullptr);
+  // Before any thread starts (Fast DDS, the GPU driver, the stages), so every thread inherits
+  // the mask and the watcher alone takes SIGINT / SIGTERM, during the start-up too.
+  tools::StopSignals signals("omnisweep-server");
+  // A signal during the start-up: what was built is torn down in order, and nothing starts.
+  auto stopped_in_start_up = [&] {
+    if (signals.received() == 0) return false;
+    std::fprintf(stderr, "omnisweep-server: %s, stopping before the first frame\n",
+                 strsignal(signals.received()));
+    return true;
+  };
 
   auto source = capture::open_source(source_spec, source_options);
+  if (stopped_in_start_up()) return 0;
   if (const DatasetHints* hints = source->hints()) {  // where no flag gives them
     if (!hints->references.empty() && app.count("--references") == 0)
       options.depth.references = hints->references;
@@ -127,10 +131,16 @@ int run(int argc, char** argv) {
   }
   std::fprintf(stderr, "omnisweep-server: source: %s\n", source->description().c_str());
   gpu::Context context(tools::context_options(device));
+  if (stopped_in_start_up()) return 0;
   auto publisher =
       std::make_unique<dds::StreamPublisher>(dds_options, frame_profile, options.confidence);
   auto server =
       std::make_unique<pipeline::RgbdServer>(std::move(source), context, *publisher, options);
+  if (stopped_in_start_up()) {
+    server.reset();
+    publisher.reset();
+    return 0;
+  }
   std::fprintf(stderr,
                "omnisweep-server: device %s; publishing %dx%d panoramas on domain %d, topics "
                "%s/{description,rgbd,status}\n",
@@ -149,15 +159,12 @@ int run(int argc, char** argv) {
                  options.foxglove->address.c_str(), server->foxglove_port());
   }
   server->start();
+  signals.started();
 
   int signal = 0;
-  const timespec step{0, 50'000'000};
-  while (!server->finished()) {
-    signal = sigtimedwait(&signals, nullptr, &step);
-    if (signal == SIGINT || signal == SIGTERM) break;
+  while (!server->finished() && (signal = signals.wait_for(0.05)) == 0) {
   }
-  if (signal == SIGINT || signal == SIGTERM)
-    std::fprintf(stderr, "omnisweep-server: %s, stopping\n", strsignal(signal));
+  if (signal != 0) std::fprintf(stderr, "omnisweep-server: %s, stopping\n", strsignal(signal));
   server->request_stop();
   const std::string error = server->error();
   const int code = error.empty() ? 0 : 1;
