@@ -136,11 +136,7 @@ int run(int argc, char** argv) {
       std::make_unique<dds::StreamPublisher>(dds_options, frame_profile, options.confidence);
   auto server =
       std::make_unique<pipeline::RgbdServer>(std::move(source), context, *publisher, options);
-  if (stopped_in_start_up()) {
-    server.reset();
-    publisher.reset();
-    return 0;
-  }
+  if (stopped_in_start_up()) return 0;  // server, publisher, context: torn down in that order
   std::fprintf(stderr,
                "omnisweep-server: device %s; publishing %dx%d panoramas on domain %d, topics "
                "%s/{description,rgbd,status}\n",
