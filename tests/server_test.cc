@@ -115,7 +115,9 @@ TEST_F(ServerTest, StatusArrivesOnceASecond) {
   EXPECT_EQ(states.back(), "running") << out;
   for (std::size_t i = 0; i < states.size(); ++i) {
     EXPECT_TRUE(states[i] == "running" || states[i] == "starting") << states[i];
-    if (i > 0 && states[i - 1] == "running") EXPECT_EQ(states[i], "running") << out;
+    if (i > 0 && states[i - 1] == "running") {
+      EXPECT_EQ(states[i], "running") << out;
+    }
   }
   ASSERT_GE(times.size(), 5u) << out;
   // Each gap within 0.5 s of a second (delivery jitter on a loaded machine), their mean within

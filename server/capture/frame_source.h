@@ -76,8 +76,8 @@ std::string_view to_string(SourceKind kind);  // the spec's prefix: "synthetic",
 
 struct SourceSpec {
   SourceKind kind = SourceKind::kSynthetic;
-  std::string location;              // the dataset directory (dataset)
-  std::vector<std::string> cameras;  // one entry per camera (video, v4l2, gst)
+  std::string location{};              // the dataset directory (dataset)
+  std::vector<std::string> cameras{};  // one entry per camera (video, v4l2, gst)
 };
 // Throws SourceError naming the spec and what is wrong (unknown kind, an empty camera entry).
 SourceSpec parse_source_spec(const std::string& spec);

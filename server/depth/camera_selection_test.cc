@@ -82,7 +82,7 @@ float half_rounding(float v) {
 // With match_cameras = 2 the CPU's cost is the mean of the two cameras' where there is a second.
 TEST_F(DepthKernelTest, SweepCostEqualsCpu) {
   const auto scene = fixtures::render_depth_case(128);
-  for (const auto [half, cameras] : {std::pair{false, 1}, {true, 1}, {false, 2}}) {
+  for (const auto& [half, cameras] : {std::pair{false, 1}, {true, 1}, {false, 2}}) {
     DepthOptions options;
     options.matching_width = options.matching_height = 128;
     options.half_costs = half;
@@ -122,7 +122,9 @@ TEST_F(DepthKernelTest, SweepCostEqualsCpu) {
       std::cout << (half ? "16-bit" : "32-bit") << ", " << cameras
                 << " camera(s): sweep cost vs CPU: 99th percentile difference " << p99
                 << ", largest " << worst << " (" << averaged << " pixels averaged)\n";
-      if (cameras == 2) EXPECT_GT(averaged, 100);
+      if (cameras == 2) {
+        EXPECT_GT(averaged, 100);
+      }
       EXPECT_LT(p99, 0.05f);    // float vs double projection moves a tap by ~1e-4 px
       EXPECT_LT(worst, 20.0f);  // at most a pixel-boundary tap flip at a strong edge
     }

@@ -126,8 +126,7 @@ gpu::Texels image_texels(const gpu::Buffer& images) {
 DepthEstimator::DepthEstimator(gpu::Context& context, const Rig& rig,
                                const std::vector<std::optional<Gray8Image>>& usable,
                                const DepthOptions& options)
-    : context_(&context),
-      allocated_before_(context.allocated_bytes()),
+    : allocated_before_(context.allocated_bytes()),
       options_(options),
       rig_(checked(rig, options)),
       width_(options.matching_width),

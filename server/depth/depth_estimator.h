@@ -103,7 +103,6 @@ class DepthEstimator {
   void record_blur(gpu::Sequence& seq);
   std::uint32_t slots() const { return std::uint32_t(options_.references.size()); }
 
-  gpu::Context* context_;
   std::uint64_t allocated_before_;  // device memory in use before this estimator
   DepthOptions options_;
   Rig rig_;

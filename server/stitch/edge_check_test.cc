@@ -93,8 +93,9 @@ TEST_F(EdgeCheckTest, LowersCarriedDistancesOnly) {
   EXPECT_EQ(EdgeCheckParams::for_width(kW).block, 2);
   for (int y = 0; y < kH; ++y) {
     for (int x = 0; x < kW; ++x) {
-      if (in_blob(x, y) || in_seam_blob(x, y))
+      if (in_blob(x, y) || in_seam_blob(x, y)) {
         ASSERT_FLOAT_EQ(out(x, y), 0.1f * s.confidence(x, y)) << "blob pixel " << x << ", " << y;
+      }
     }
   }
   // Across the seam: the ceiling two columns left of column 0 is within reach, 20 columns is not.
@@ -109,8 +110,9 @@ TEST_F(EdgeCheckTest, LowersCarriedDistancesOnly) {
   };
   for (int y = 0; y < kH; ++y) {
     for (int x = 0; x < kW; ++x) {
-      if (far_from_blobs(x, y))
+      if (far_from_blobs(x, y)) {
         ASSERT_EQ(out(x, y), s.confidence(x, y)) << "pixel " << x << ", " << y;
+      }
     }
   }
 }

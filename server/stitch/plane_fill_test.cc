@@ -129,7 +129,9 @@ TEST_F(PlaneFillTest, PutsAPulledFloorBackOnItsPlane) {
   EXPECT_LT(band_mae(s, out), 0.03)
       << "the band's MAE after the fill, 1/m (before " << before << ")";
   for (std::size_t i = 0; i < out.size(); ++i) {
-    if (!s.band[i]) ASSERT_EQ(out.data()[i], s.distance.data()[i]) << "pixel " << i;
+    if (!s.band[i]) {
+      ASSERT_EQ(out.data()[i], s.distance.data()[i]) << "pixel " << i;
+    }
   }
   ASSERT_TRUE(s.band[kHalfway]);
   const double pulled = inverse(s.distance.data()[kHalfway]), truth = s.truth.data()[kHalfway];

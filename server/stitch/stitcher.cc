@@ -75,11 +75,11 @@ Stitcher::Stitcher(gpu::Context& context, const Rig& matching_rig, const Rig& co
       color_rig_(color_rig),
       viewpoint_(options.viewpoint ? *options.viewpoint : mean_position(matching_rig, references)),
       allocated_before_(context.allocated_bytes()),
+      distances_(context, references.size() * area(matching_rig.cameras.at(references.at(0))) * 4),
+      confidences_(context, distances_.size()),
       cameras_(context, 2 * references.size() * sizeof(reproject::GpuCamera)),
       weights_(context, references.size() * std::uint64_t(options.panorama_width) *
                             options.panorama_height * 4),
-      distances_(context, references.size() * area(matching_rig.cameras.at(references.at(0))) * 4),
-      confidences_(context, distances_.size()),
       color_(context, references.size() * area(color_rig.cameras.at(references.at(0))) * 4),
       out_color_(context, std::uint64_t(options.panorama_width) * options.panorama_height * 4),
       out_distance_(context, std::uint64_t(options.panorama_width) * options.panorama_height * 4),

@@ -23,7 +23,7 @@ namespace omnisweep::stitch {
 struct StitchOptions {
   int panorama_width = 2048;
   int panorama_height = 1024;
-  std::optional<Eigen::Vector3d> viewpoint;  // rig frame; default: mean of the references
+  std::optional<Eigen::Vector3d> viewpoint{};  // rig frame; default: mean of the references
   double min_distance = 0.55;
   double max_distance = 100.0;
   int inpaint_passes = 32;
@@ -46,7 +46,7 @@ struct StitchOptions {
   bool edge_check = false;
   // A temporal filter on the panorama's distance (temporal_filter.h) for streams: each frame
   // then depends on the ones before it. None by default.
-  std::optional<TemporalOptions> temporal;
+  std::optional<TemporalOptions> temporal{};
   // Throws std::invalid_argument naming the field, its value and what is allowed.
   void check() const;
 };

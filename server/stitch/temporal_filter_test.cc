@@ -157,7 +157,9 @@ TEST_F(TemporalFilterTest, OneFrameInTheMeanChangesNothing) {
     const FloatImage before = d.clone();
     temporal_filter_cpu(state, d, c, confidence, options);
     for (std::size_t i = 0; i < d.size(); ++i) {
-      if (before.data()[i] > 0) ASSERT_NEAR(1.0 / d.data()[i], 1.0 / before.data()[i], 1e-6) << i;
+      if (before.data()[i] > 0) {
+        ASSERT_NEAR(1.0 / d.data()[i], 1.0 / before.data()[i], 1e-6) << i;
+      }
     }
   }
 }

@@ -18,7 +18,7 @@ struct RenderedImage {
   // render_camera with keep_radiance only (else empty): the shaded colour in [0, 1] that `rgb`
   // rounds, for the sensor model (photometric.h), which rounds once, after its gain, vignetting and
   // noise.
-  RgbFloatImage radiance;
+  RgbFloatImage radiance{};
 };
 
 // Pixels whose ray is more than `lens_half_fov` radians off the optical axis see no light

@@ -15,9 +15,9 @@ namespace omnisweep::tools {
 
 // --panorama-resolution W H, --rgb-resolution W H and --viewpoint X Y Z.
 struct PanoramaFlags {
-  std::vector<int> panorama;        // width, height
-  std::vector<int> rgb_resolution;  // empty: the images' own
-  std::vector<double> viewpoint;    // empty: dataset.json's, else the mean of the references
+  std::vector<int> panorama{};        // width, height
+  std::vector<int> rgb_resolution{};  // empty: the images' own
+  std::vector<double> viewpoint{};    // empty: dataset.json's, else the mean of the references
 
   std::optional<std::pair<int, int>> rgb() const {
     if (rgb_resolution.empty()) return std::nullopt;

@@ -251,7 +251,7 @@ TEST(ConfidenceCodec, RoundTripAndLevels) {
   EXPECT_EQ(codec->name(), "conf8-zstd");
   EXPECT_THROW(make_confidence_codec("png"), CodecError);
   std::mt19937 rng(7);
-  for (const auto [w, h] : {std::pair{1, 1}, {3, 5}, {64, 32}, {257, 19}}) {
+  for (const auto& [w, h] : {std::pair{1, 1}, {3, 5}, {64, 32}, {257, 19}}) {
     FloatImage confidence(w, h);
     for (float& c : confidence.pixels())
       c = std::uniform_real_distribution<float>(-0.2f, 1.2f)(rng);

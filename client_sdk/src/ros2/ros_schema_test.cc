@@ -37,8 +37,11 @@ TEST(RosSchema, DefinitionsCarryEveryTypeTheyUseOnce) {
             std::string("builtin_interfaces/msg/Time stamp\nstring frame_id\n").size() + 81);
   EXPECT_THROW(message_definition("sensor_msgs/msg/Imu"), std::invalid_argument);
   // Every ROS topic's type has its definition.
-  for (const dds::TopicSpec& spec : dds::kTopics)
-    if (!dds::is_stream_topic(spec.kind)) EXPECT_NO_THROW(message_definition(ros_type(spec.kind)));
+  for (const dds::TopicSpec& spec : dds::kTopics) {
+    if (!dds::is_stream_topic(spec.kind)) {
+      EXPECT_NO_THROW(message_definition(ros_type(spec.kind)));
+    }
+  }
 }
 
 TEST(RosSchema, OfferedQosAsRosbag2WritesIt) {

@@ -49,12 +49,12 @@ struct BindingSlot {
 
 struct KernelLayout {
   // The buffer bindings in binding order; a plain number is that many storage buffers.
-  std::vector<BindingSlot> bindings;
+  std::vector<BindingSlot> bindings{};
   // Storage images, one per binding, at the binding numbers after the buffers.
   std::uint32_t storage_images = 0;
   std::uint32_t push_constant_bytes = 0;
   std::array<std::uint32_t, 3> local_size = {8, 8, 1};
-  std::vector<SpecConstant> constants;
+  std::vector<SpecConstant> constants{};
 };
 
 // The Vulkan descriptor type of a binding kind.
