@@ -19,6 +19,12 @@
 #error "omnisweep/gpu/context.h or omnisweep/reproject/reprojector.h included Vulkan-Hpp"
 #endif
 
+// The app fills Vulkan's C structs with designated initializers and leaves the rest zero, as C
+// apps do; GCC's -Wextra would name every field left out.
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic ignored "-Wmissing-field-initializers"
+#endif
+
 namespace omnisweep::reproject {
 namespace {
 
