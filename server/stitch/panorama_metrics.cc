@@ -1,7 +1,9 @@
 #include "server/stitch/panorama_metrics.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <numeric>
 #include <stdexcept>
@@ -78,13 +80,24 @@ PanoramaMetrics evaluate_panorama(const Rgb8Image& rgb, const FloatImage& distan
                                    sized("distance panorama", distance)});
   PanoramaMetrics m;
   const std::size_t n = distance.size();
-  for (std::size_t i = 0; i < n; ++i) {
-    const double d = distance.data()[i];
-    const double e = std::abs((d > 0 ? 1.0 / d : 0.0) - inverse_truth.data()[i]);
-    m.mae += e;
-    m.rmse += e * e;
-    m.bad_0_1 += e > 0.1;
-    m.bad_0_4 += e > 0.4;
+  const int width = distance.width(), height = distance.height();
+  std::array<std::size_t, 8> band_pixels{};
+  for (int y = 0; y < height; ++y) {
+    const auto band = std::size_t(std::int64_t(y) * 8 / height);
+    for (int x = 0; x < width; ++x) {
+      const std::size_t i = std::size_t(y) * std::size_t(width) + std::size_t(x);
+      const double d = distance.data()[i];
+      const double e = std::abs((d > 0 ? 1.0 / d : 0.0) - inverse_truth.data()[i]);
+      m.mae += e;
+      m.rmse += e * e;
+      m.bad_0_1 += e > 0.1;
+      m.bad_0_4 += e > 0.4;
+      m.mae_by_eighth[band] += e;
+    }
+    band_pixels[band] += std::size_t(width);
+  }
+  for (std::size_t b = 0; b < band_pixels.size(); ++b) {
+    if (band_pixels[b] > 0) m.mae_by_eighth[b] /= double(band_pixels[b]);
   }
   m.mae /= double(n);
   m.rmse = std::sqrt(m.rmse / double(n));

@@ -4,6 +4,7 @@
 // K1 = 0.01, K2 = 0.03, channels averaged, a 3-pixel border left out).
 #pragma once
 
+#include <array>
 #include <vector>
 
 #include "omnisweep/image/image.h"
@@ -17,6 +18,11 @@ struct PanoramaMetrics {
   double bad_0_4 = 0;
   double psnr = 0;  // dB
   double ssim = 0;
+  // The MAE of each eighth of the panorama's rows, the top (22.5 degrees around the zenith) first:
+  // where the error sits by elevation. With sensor noise a plain ceiling holds no information,
+  // and its guess can move the MAE of all as much as the methods differ (docs/accuracy.md, stop
+  // 47).
+  std::array<double, 8> mae_by_eighth{};
 };
 
 // `distance`: metres (0 = none, counted as inverse distance 0); `inverse_truth`: m^-1.

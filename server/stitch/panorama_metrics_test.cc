@@ -66,6 +66,39 @@ TEST(SparsificationTest, BadSizesAreNamed) {
                std::invalid_argument);
 }
 
+// The MAE by eighth of the rows: each eighth alone, the top first, and their mean the MAE of all
+// (the eighths are equal); a height that 8 does not divide gives its rows to the eighths as
+// y * 8 / height does.
+TEST(PanoramaMetricsTest, MaeByEighthOfTheRows) {
+  const int width = 8, height = 16;  // SSIM needs 7 x 7
+  const FloatImage distance = FloatImage::filled(width, height, 1.0f);
+  FloatImage truth(width, height);
+  for (int y = 0; y < height; ++y) {
+    const int eighth = y / 2;
+    for (int x = 0; x < width; ++x) truth.data()[y * width + x] = 1.0f + 0.01f * float(eighth);
+  }
+  const Rgb8Image rgb(width, height);
+  const PanoramaMetrics m = evaluate_panorama(rgb, distance, rgb, truth);
+  double mean = 0;
+  for (int b = 0; b < 8; ++b) {
+    EXPECT_NEAR(m.mae_by_eighth[std::size_t(b)], 0.01 * b, 1e-6) << "eighth " << b;
+    mean += m.mae_by_eighth[std::size_t(b)] / 8;
+  }
+  EXPECT_NEAR(mean, m.mae, 1e-9);
+
+  // 12 rows: the eighths hold rows {0, 1}, {2}, {3, 4}, {5}, {6, 7}, {8}, {9, 10}, {11}.
+  FloatImage truth12(width, 12);
+  for (int y = 0; y < 12; ++y) {
+    for (int x = 0; x < width; ++x) truth12.data()[y * width + x] = 1.0f + 0.01f * float(y);
+  }
+  const Rgb8Image rgb12(width, 12);
+  const PanoramaMetrics m12 =
+      evaluate_panorama(rgb12, FloatImage::filled(width, 12, 1.0f), rgb12, truth12);
+  const double expected[8] = {0.005, 0.02, 0.035, 0.05, 0.065, 0.08, 0.095, 0.11};
+  for (int b = 0; b < 8; ++b)
+    EXPECT_NEAR(m12.mae_by_eighth[std::size_t(b)], expected[b], 1e-6) << "eighth " << b;
+}
+
 // Every pass's CPU reference and every metric checks its inputs' sizes with this one message.
 TEST(SameSizeTest, NamesThePassAndTheFirstImageThatDiffers) {
   const FloatImage a(4, 2), b(4, 2), c(2, 4), d(3, 3);

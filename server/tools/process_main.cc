@@ -217,6 +217,10 @@ int run(int argc, char** argv) {
                 "%.4f, \"ssim\": %.6f",
                 metrics->mae, metrics->rmse, metrics->bad_0_1, metrics->bad_0_4, metrics->psnr,
                 metrics->ssim);
+            std::printf(", \"mae_by_eighth\": [");
+            for (std::size_t i = 0; i < metrics->mae_by_eighth.size(); ++i)
+              std::printf("%s%.6f", i ? ", " : "", metrics->mae_by_eighth[i]);
+            std::printf("]");
             std::printf(
                 ", \"ause\": %.6f, \"mae_at_80\": %.6f, \"oracle_at_80\": %.6f, "
                 "\"sparsification_monotonic\": %s, \"sparsification\": [",
