@@ -1,0 +1,51 @@
+// Membrane fill (docs/accuracy.md, stop 47; the CPU reference, not yet in the stitcher): on a
+// plane, the inverse distance seen along a unit ray r is linear in r, 1/D = a . r, and on the
+// sphere such a function solves (Laplace_S + 2) v = 0. Solving that equation inside each large
+// unconfident region, with the confident inverse distances around it as the boundary values,
+// gives back a plane exactly where the region's boundary lies on one (a plain ceiling inside its
+// creases with the walls) and blends smoothly where it lies on several; it is deterministic and
+// continuous in its inputs, where a RANSAC over the boundary (region_planes.h) is neither.
+//
+// On a grid `cell` times coarser than the panorama:
+//   1. a cell is known when at least known_share of its pixels have a distance and a confidence
+//      of at least known_from; its value is their mean inverse distance;
+//   2. the unknown cells form 4-connected components (wrapping left to right); those of fewer
+//      than min_cells cells are left alone;
+//   3. the field solves (Laplace_S + 2) v = 0 on the other unknown cells, the known ones fixed
+//      (a sparse system, solved directly), in the equirectangular grid's own metric: the polar
+//      flux weighted by sin(theta) at the cells' edges (0 at the poles, which need no boundary
+//      condition), the azimuthal by 1 / sin(theta); where the system is singular (a region
+//      whose lowest mode is the plane's own, as large as a hemisphere) nothing is filled;
+//   4. each pixel with a distance and a confidence below fill_below, in a filled component,
+//      takes the field interpolated bilinearly between the cells' centres (clamped to the
+//      sweep's range).
+// The discretisation is written by hand (no library here knows the sphere's grid); Eigen's sparse
+// LU solves it (at most 256 x 128 cells at 2048 x 1024).
+#pragma once
+
+#include "omnisweep/image/image.h"
+
+namespace omnisweep::stitch {
+
+// The settings at a 2048 x 1024 panorama (the cell scales with the width, min_cells not: it
+// counts cells, which hold the same solid angle at every width).
+struct MembraneFillParams {
+  double fill_below = 0.1;    // pixels of lower confidence take the field
+  double known_from = 0.1;    // a cell's boundary pixels: of at least this confidence
+  double known_share = 0.25;  // a cell is known when this share of its pixels are such pixels
+  int cell = 8;               // pixels per cell side
+  int min_cells = 1000;       // smaller components of unknown cells are left alone
+  // For a panorama `width` pixels wide: the cell scaled from 2048.
+  static MembraneFillParams for_width(int width);
+  // Throws std::invalid_argument naming a setting out of range.
+  void check() const;
+};
+
+// `distance` (metres, 0 = none) with its large unconfident regions filled as above; every other
+// pixel is copied. Throws std::invalid_argument when the images differ in size, the panorama is
+// not 2:1 or not a whole number of cells, or a setting is out of range.
+FloatImage membrane_fill_cpu(const FloatImage& distance, const FloatImage& confidence,
+                             const MembraneFillParams& params, double min_distance,
+                             double max_distance);
+
+}  // namespace omnisweep::stitch
