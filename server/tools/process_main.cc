@@ -16,6 +16,7 @@
 #include <filesystem>
 #include <map>
 #include <numbers>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -46,6 +47,13 @@ std::string json_string(const std::string& s) {
     out += c;
   }
   return out + "\"";
+}
+
+// `values` as a JSON array of numbers, "[a, b, ...]", to stdout.
+void print_json_numbers(std::span<const double> values) {
+  std::printf("[");
+  for (std::size_t i = 0; i < values.size(); ++i) std::printf("%s%.6f", i ? ", " : "", values[i]);
+  std::printf("]");
 }
 
 int run(int argc, char** argv) {
@@ -217,21 +225,16 @@ int run(int argc, char** argv) {
                 "%.4f, \"ssim\": %.6f",
                 metrics->mae, metrics->rmse, metrics->bad_0_1, metrics->bad_0_4, metrics->psnr,
                 metrics->ssim);
-            std::printf(", \"mae_by_eighth\": [");
-            for (std::size_t i = 0; i < metrics->mae_by_eighth.size(); ++i)
-              std::printf("%s%.6f", i ? ", " : "", metrics->mae_by_eighth[i]);
-            std::printf("]");
+            std::printf(", \"mae_by_eighth\": ");
+            print_json_numbers(metrics->mae_by_eighth);
             std::printf(
                 ", \"ause\": %.6f, \"mae_at_80\": %.6f, \"oracle_at_80\": %.6f, "
-                "\"sparsification_monotonic\": %s, \"sparsification\": [",
+                "\"sparsification_monotonic\": %s, \"sparsification\": ",
                 sparsification->ause, sparsification->mae_at_80, sparsification->oracle_at_80,
                 sparsification->monotonic ? "true" : "false");
-            for (std::size_t i = 0; i < sparsification->mae.size(); ++i)
-              std::printf("%s%.6f", i ? ", " : "", sparsification->mae[i]);
-            std::printf("], \"oracle\": [");
-            for (std::size_t i = 0; i < sparsification->oracle.size(); ++i)
-              std::printf("%s%.6f", i ? ", " : "", sparsification->oracle[i]);
-            std::printf("]");
+            print_json_numbers(sparsification->mae);
+            std::printf(", \"oracle\": ");
+            print_json_numbers(sparsification->oracle);
             if (flicker) std::printf(", \"flicker\": %.6f", *flicker);
           }
           if (photometry) {
