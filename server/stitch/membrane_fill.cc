@@ -115,7 +115,9 @@ FloatImage membrane_fill_cpu(const FloatImage& distance, const FloatImage& confi
   std::vector<char> fill(cells, 0);
   for (std::size_t k = 0; k < cells; ++k) {
     fill[k] = !known[k] && sizes[std::size_t(label[k])] >= params.min_cells;
-    if (!known[k]) v[k] = mean;
+    // The unknown cells of small components are not solved; the interpolation of step 4 can
+    // reach one diagonally, and takes the known cells' mean there.
+    if (!known[k] && !fill[k]) v[k] = mean;
   }
 
   // 3. (Laplace_S + 2) v = 0 on the cells to fill, the known cells as boundary values; row i's
