@@ -1,5 +1,9 @@
 #include "server/pipeline/gpu_frame.h"
 
+#include <string>
+#include <utility>
+#include <vector>
+
 namespace omnisweep::pipeline {
 
 GpuFrame::GpuFrame(gpu::Context& context, depth::DepthEstimator& estimator,
@@ -25,7 +29,9 @@ stitch::Panorama GpuFrame::run(std::span<const Rgb8View> matching, std::span<con
   stitcher_->record(sequence_, estimator_->distance_buffer(), &estimator_->confidence_buffer());
   sequence_.submit_and_wait();
   stitch::Panorama panorama = stitcher_->download();
-  panorama.stage_ms = sequence_.stage_ms();
+  std::vector<std::pair<std::string, double>> stages = sequence_.stage_ms();
+  stages.insert(stages.end(), panorama.stage_ms.begin(), panorama.stage_ms.end());
+  panorama.stage_ms = std::move(stages);
   return panorama;
 }
 

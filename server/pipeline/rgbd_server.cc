@@ -88,6 +88,7 @@ struct RgbdServer::Stages {
                                        .plane_fill = o.plane_fill,
                                        .region_planes = o.region_planes,
                                        .edge_check = o.edge_check,
+                                       .membrane_fill = o.membrane_fill,
                                        .temporal = o.temporal}),
         gpu_frame(context, estimator, stitcher),
         distance_codec(codec::make_distance_codec(codec::kQinv16Zstd)),

@@ -56,6 +56,8 @@ struct ServerOptions {
   bool region_planes = false;
   // The edge check (StitchOptions::edge_check, stitch/edge_check.h); off by default.
   bool edge_check = false;
+  // The membrane fill (StitchOptions::membrane_fill, stitch/membrane_fill.h); off by default.
+  bool membrane_fill = false;
   // A temporal filter on the distance (stitch/temporal_filter.h); none by default.
   std::optional<stitch::TemporalOptions> temporal;
   bool exit_on_source_end = false;  // else a stalled or ended source is reported and retried

@@ -1,8 +1,13 @@
 #include "server/stitch/stitcher.h"
 
+#include <chrono>
 #include <cmath>
 #include <stdexcept>
 #include <string>
+#include <utility>
+#include <vector>
+
+#include "server/stitch/membrane_fill.h"
 
 namespace omnisweep::stitch {
 namespace {
@@ -62,6 +67,13 @@ void StitchOptions::check() const {
   if (!(plane_fill >= 0 && plane_fill < 1))
     throw reproject::option_error("StitchOptions", "plane_fill", plane_fill,
                                   "a confidence in [0, 1) (0: off)");
+  const int cell = MembraneFillParams::for_width(panorama_width).cell;
+  if (membrane_fill && (panorama_width % cell != 0 || panorama_height % cell != 0)) {
+    throw std::invalid_argument("StitchOptions.membrane_fill: the panorama " +
+                                std::to_string(panorama_width) + "x" +
+                                std::to_string(panorama_height) + " is not a whole number of " +
+                                std::to_string(cell) + "-pixel cells of the membrane fill");
+  }
 }
 
 Stitcher::Stitcher(gpu::Context& context, const Rig& matching_rig, const Rig& color_rig,
@@ -271,6 +283,7 @@ void Stitcher::record(gpu::Sequence& seq, const gpu::Buffer& distance,
     temporal_->record(seq, out_distance_, out_color_, out_confidence_);
   }
   seq.end_stage();
+  recorded_confidence_ = confidence != nullptr;
 }
 
 Panorama Stitcher::download() const {
@@ -285,6 +298,15 @@ Panorama Stitcher::download() const {
   for (std::size_t p = 0; p < rgba.size(); ++p) {
     for (int c = 0; c < 3; ++c)
       out.rgb.data()[3 * p + c] = std::uint8_t((rgba[p] >> (8 * c)) & 255);
+  }
+  if (options_.membrane_fill && recorded_confidence_) {
+    const auto start = std::chrono::steady_clock::now();
+    out.distance = membrane_fill_cpu(out.distance, out.confidence,
+                                     MembraneFillParams::for_width(options_.panorama_width),
+                                     options_.min_distance, options_.max_distance);
+    out.stage_ms.emplace_back("membrane fill (host)", std::chrono::duration<double, std::milli>(
+                                                          std::chrono::steady_clock::now() - start)
+                                                          .count());
   }
   return out;
 }
@@ -319,7 +341,9 @@ Panorama Stitcher::stitch(std::span<const FloatView> distance, std::span<const R
   record(sequence_, distances_, confidence.empty() ? nullptr : &confidences_);
   sequence_.submit_and_wait();
   Panorama out = download();
-  out.stage_ms = sequence_.stage_ms();
+  std::vector<std::pair<std::string, double>> stages = sequence_.stage_ms();
+  stages.insert(stages.end(), out.stage_ms.begin(), out.stage_ms.end());
+  out.stage_ms = std::move(stages);
   return out;
 }
 

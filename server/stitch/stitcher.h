@@ -44,6 +44,12 @@ struct StitchOptions {
   // distance the filter carried across a plain surface, times 0.1; after the fills. Off by
   // default (ALGORITHM.md). Needs the cost confidences, as the plane fill.
   bool edge_check = false;
+  // The membrane fill (membrane_fill.h): each large unconfident region's inverse distance solved
+  // from the confident distances around it; after the edge check and the temporal filter. Off by
+  // default (ALGORITHM.md). For now it runs on the host, in download(), from the downloaded
+  // panorama (Panorama::stage_ms names it "membrane fill (host)"); needs the cost confidences, as
+  // the plane fill, and a panorama whose sides are whole numbers of its cells.
+  bool membrane_fill = false;
   // A temporal filter on the panorama's distance (temporal_filter.h) for streams: each frame
   // then depends on the ones before it. None by default.
   std::optional<TemporalOptions> temporal{};
@@ -89,6 +95,8 @@ class Stitcher {
   const std::vector<int>& references() const { return references_; }
   void record(gpu::Sequence& seq, const gpu::Buffer& distance,
               const gpu::Buffer* confidence = nullptr);
+  // The panorama the last submission of record() made, with the host's stages run on it (the
+  // membrane fill) and their times in stage_ms.
   Panorama download() const;
 
   const Eigen::Vector3d& viewpoint() const { return viewpoint_; }
@@ -126,6 +134,7 @@ class Stitcher {
   std::optional<RegionPlanes> region_planes_;
   std::optional<EdgeCheck> edge_check_;
   std::optional<TemporalFilter> temporal_;
+  bool recorded_confidence_ = false;  // the last record() had the cost confidences
   gpu::Sequence sequence_;
   std::uint64_t gpu_bytes_ = 0;
 };

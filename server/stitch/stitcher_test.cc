@@ -12,6 +12,7 @@
 #include "server/depth/photometric_model.h"
 #include "server/pipeline/gpu_frame.h"
 #include "server/stitch/blend_weights.h"
+#include "server/stitch/membrane_fill.h"
 #include "server/stitch/panorama_metrics.h"
 #include "server/synthetic/synthetic_rig.h"
 #include "tests/support/gpu_test_support.h"
@@ -41,6 +42,14 @@ TEST(StitchOptions, CheckNamesTheFieldAndItsValue) {
   o = {};
   o.viewpoint = Eigen::Vector3d(0, std::nan(""), 0);
   EXPECT_NE(message(o).find("StitchOptions.viewpoint"), std::string::npos) << message(o);
+  o = {};
+  o.panorama_width = 1020;  // cells of 4 pixels: 510 rows are not a whole number of them
+  o.panorama_height = 510;
+  EXPECT_NO_THROW(o.check());
+  o.membrane_fill = true;
+  EXPECT_NE(message(o).find("StitchOptions.membrane_fill: the panorama 1020x510"),
+            std::string::npos)
+      << message(o);
 }
 
 TEST(BoxFilter, WrapsHorizontallyAndPadsVertically) {
@@ -179,6 +188,45 @@ TEST_F(StitcherTest, PanoramaMatchesTheGroundTruth) {
                          pano.distance.pixels().begin()));
   EXPECT_TRUE(std::equal(resident.confidence.pixels().begin(), resident.confidence.pixels().end(),
                          pano.confidence.pixels().begin()));
+
+  // With the membrane fill: the C++ reference's fill of the panorama, on the host after the
+  // download, its time among the stages; the colour and the confidence are unchanged. This clean
+  // frame has no large unconfident region, so one is made: no confidence within a disc about each
+  // reference's axis (a cone of about 40 degrees).
+  std::vector<FloatImage> unsure;
+  for (const FloatImage& c : depth.confidence) {
+    unsure.push_back(c.clone());
+    const double cx = c.width() / 2.0, cy = c.height() / 2.0, r = 0.2 * c.width();
+    for (int y = 0; y < c.height(); ++y) {
+      for (int x = 0; x < c.width(); ++x)
+        if (std::hypot(x + 0.5 - cx, y + 0.5 - cy) < r) unsure.back()(x, y) = 0;
+    }
+  }
+  const std::vector<Rgb8View> colors{frame.cameras[2].rgb, frame.cameras[3].rgb};
+  const Panorama before = stitcher.stitch(views(depth.distance), colors, views(unsure));
+  Stitcher membrane(context(), matching_rig, rig.rig(), options.references, usable,
+                    {.panorama_width = pano_w, .panorama_height = pano_h, .membrane_fill = true});
+  const Panorama filled = membrane.stitch(views(depth.distance), colors, views(unsure));
+  const FloatImage expected =
+      membrane_fill_cpu(before.distance, before.confidence, MembraneFillParams::for_width(pano_w),
+                        StitchOptions{}.min_distance, StitchOptions{}.max_distance);
+  long changed = 0;
+  for (std::size_t i = 0; i < expected.size(); ++i) {
+    ASSERT_EQ(filled.distance.data()[i], expected.data()[i]) << "pixel " << i;
+    changed += expected.data()[i] != before.distance.data()[i];
+  }
+  EXPECT_TRUE(std::equal(filled.confidence.pixels().begin(), filled.confidence.pixels().end(),
+                         before.confidence.pixels().begin()));
+  EXPECT_TRUE(std::equal(filled.rgb.pixels().begin(), filled.rgb.pixels().end(),
+                         before.rgb.pixels().begin()));
+  EXPECT_EQ(filled.stage_ms.back().first, "membrane fill (host)");
+  const PanoramaMetrics mb = evaluate_panorama(before.rgb, before.distance, frame.panorama.rgb,
+                                               frame.panorama.inverse_distance);
+  const PanoramaMetrics mf = evaluate_panorama(filled.rgb, filled.distance, frame.panorama.rgb,
+                                               frame.panorama.inverse_distance);
+  std::cout << "membrane fill: " << changed << " pixels filled, MAE " << mb.mae << " -> " << mf.mae
+            << " m^-1, " << filled.stage_ms.back().second << " ms\n";
+  EXPECT_GT(changed, long(expected.size() / 50));  // more than 2 % of the panorama
 }
 
 // --correct-photometry's path: GpuFrame undoes the host's fit on the GPU, in the matching and the

@@ -49,6 +49,7 @@ struct Variant {
   bool edge_check = false;       // StitchOptions::edge_check
   double match_blur = 0;         // DepthOptions::match_blur
   double raw_agreement = 0;      // DepthOptions::raw_agreement
+  bool membrane_fill = false;    // StitchOptions::membrane_fill
 };
 
 constexpr Variant kVariants[] = {
@@ -96,6 +97,14 @@ constexpr Variant kVariants[] = {
     {"ad + correction, 2 cameras, confident 5, plane fill 0.05, sigma_s 20, region planes, raw "
      "agreement 0.3",
      depth::MatchingCost::kAbsoluteDifference, true, 2, 5, 0.05, 20, true, false, 0, 0.3},
+    // The large unconfident regions solved from their rims (docs/accuracy.md, "Membrane fill"),
+    // after the default's fills, and after the blur's without the region planes.
+    {"ad + correction, 2 cameras, confident 5, plane fill 0.05, sigma_s 20, region planes, "
+     "membrane fill",
+     depth::MatchingCost::kAbsoluteDifference, true, 2, 5, 0.05, 20, true, false, 0, 0, true},
+    {"ad + correction, 2 cameras, confident 5, plane fill 0.05, sigma_s 20, match blur 1, "
+     "membrane fill",
+     depth::MatchingCost::kAbsoluteDifference, true, 2, 5, 0.05, 20, false, false, 1.0, 0, true},
 };
 
 // The synthetic rig's frames, through realistic lenses or not, with Gaussian sensor noise of
@@ -193,6 +202,7 @@ Row run(gpu::Context& context, const AccuracySet& set, const Variant& variant,
                              .plane_fill = variant.plane_fill,
                              .region_planes = variant.region_planes,
                              .edge_check = variant.edge_check,
+                             .membrane_fill = variant.membrane_fill,
                              .temporal = std::nullopt});
   pipeline::GpuFrame gpu_frame(context, estimator, stitcher);
   std::optional<depth::PhotometricCorrector> photometry;

@@ -9,7 +9,8 @@
 // (the mean |change of inverse distance| where the truth did not change) is printed too.
 // --region-planes refits the unconfident regions' distances (stitch/region_planes.h);
 // --edge-check lowers the confidence of distances carried across plain surfaces
-// (stitch/edge_check.h).
+// (stitch/edge_check.h); --membrane-fill solves the large unconfident regions' distances from
+// their rims (stitch/membrane_fill.h).
 #include <CLI/CLI.hpp>
 #include <chrono>
 #include <cstdio>
@@ -68,7 +69,7 @@ int run(int argc, char** argv) {
   bool evaluate = false, json = false;
   std::optional<stitch::TemporalOptions> temporal;
   double plane_fill = 0.0;
-  bool region_planes = false, edge_check = false;
+  bool region_planes = false, edge_check = false, membrane_fill = false;
   app.add_option("--dataset", dataset_dir, "Dataset in the reference layout")->required();
   app.add_option("--output", output_dir, "Folder for the panoramas (created if missing)")
       ->required();
@@ -81,6 +82,7 @@ int run(int argc, char** argv) {
   tools::add_plane_fill_flag(app, plane_fill);
   tools::add_region_planes_flag(app, region_planes);
   tools::add_edge_check_flag(app, edge_check);
+  tools::add_membrane_fill_flag(app, membrane_fill);
   tools::add_temporal_flags(app, temporal);
   CLI11_PARSE(app, argc, argv);
 
@@ -124,6 +126,7 @@ int run(int argc, char** argv) {
   stitch_options.plane_fill = plane_fill;
   stitch_options.region_planes = region_planes;
   stitch_options.edge_check = edge_check;
+  stitch_options.membrane_fill = membrane_fill;
   stitch::Stitcher stitcher(context, matching_rig, color_rig, options.references, masks,
                             stitch_options);
   pipeline::GpuFrame gpu_frame(context, estimator, stitcher);

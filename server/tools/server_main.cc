@@ -77,6 +77,7 @@ int run(int argc, char** argv) {
   tools::add_plane_fill_flag(app, options.plane_fill);
   tools::add_region_planes_flag(app, options.region_planes);
   tools::add_edge_check_flag(app, options.edge_check);
+  tools::add_membrane_fill_flag(app, options.membrane_fill);
   tools::add_temporal_flags(app, options.temporal);
   app.add_flag("--confidence", options.confidence,
                "Also publish each frame's distance confidence (8-bit, conf8-zstd) on "

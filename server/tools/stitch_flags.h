@@ -62,6 +62,15 @@ inline void add_region_planes_flag(CLI::App& app, bool& region_planes) {
                "docs/accuracy.md)");
 }
 
+// --membrane-fill into `membrane_fill` (StitchOptions::membrane_fill, stitch/membrane_fill.h).
+inline void add_membrane_fill_flag(CLI::App& app, bool& membrane_fill) {
+  app.add_flag("--membrane-fill,!--no-membrane-fill", membrane_fill,
+               "Solve the inverse distance of each large unconfident region (confidence below "
+               "0.1) from the confident distances around it, exact where they lie on one plane "
+               "(after the fills and the edge check; on the host for now; default off; "
+               "docs/accuracy.md)");
+}
+
 // --edge-check into `edge_check` (StitchOptions::edge_check, stitch/edge_check.h).
 inline void add_edge_check_flag(CLI::App& app, bool& edge_check) {
   app.add_flag("--edge-check,!--no-edge-check", edge_check,
