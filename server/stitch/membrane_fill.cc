@@ -30,6 +30,10 @@ void MembraneFillParams::check() const {
   if (!(known_share > 0 && known_share <= 1)) bad("known_share", known_share, "in (0, 1]");
   if (cell < 1 || cell > 64) bad("cell", cell, "in [1, 64]");
   if (min_cells < 1) bad("min_cells", min_cells, "at least 1");
+  if (cycles < 1 || cycles > 100) bad("cycles", cycles, "in [1, 100]");
+  if (sweeps < 1 || sweeps > 100) bad("sweeps", sweeps, "in [1, 100]");
+  if (coarsest_sweeps < 1 || coarsest_sweeps > 10000)
+    bad("coarsest_sweeps", coarsest_sweeps, "in [1, 10000]");
 }
 
 namespace {
@@ -60,6 +64,250 @@ std::vector<int> components(const std::vector<char>& known, int w, int h, std::v
     }
   }
   return label;
+}
+
+// A cell's part in the solve.
+enum Kind : char { kNeither = 0, kKnown = 1, kFill = 2 };
+
+// The stencil's weights of row i of h rows, times sin(theta_i) step^2: north and south (the
+// polar flux at the row's edges), each azimuthal neighbour's, and the +2 term's (negative).
+struct RowWeights {
+  double north, south, azimuthal, own;
+};
+RowWeights row_weights(int i, int h) {
+  const double step = std::numbers::pi / h;
+  const double s = std::sin((i + 0.5) * step);
+  return {std::sin(i * step), std::sin((i + 1) * step), 1.0 / s, -2.0 * step * step * s};
+}
+
+// Calls visit(q, weight) for the stencil's neighbours of cell (i, j) of a w x h grid: east and
+// west (wrapping), north and south where they exist.
+template <typename Visit>
+void for_neighbours(int i, int j, int w, int h, const RowWeights& r, Visit&& visit) {
+  const auto row = std::size_t(i) * std::size_t(w);
+  visit(row + std::size_t((j + 1) % w), r.azimuthal);
+  visit(row + std::size_t((j + w - 1) % w), r.azimuthal);
+  if (i > 0) visit(row - std::size_t(w) + std::size_t(j), r.north);
+  if (i + 1 < h) visit(row + std::size_t(w) + std::size_t(j), r.south);
+}
+
+// Solves the fill cells directly (kDirect); false where the system is singular.
+bool solve_direct(std::vector<double>& v, const std::vector<char>& kind, int w, int h) {
+  const auto cells = kind.size();
+  std::vector<int> unknown_index(cells, -1);
+  int unknowns = 0;
+  for (std::size_t k = 0; k < cells; ++k) {
+    if (kind[k] == kFill) unknown_index[k] = unknowns++;
+  }
+  if (unknowns == 0) return true;
+  std::vector<Eigen::Triplet<double>> entries;
+  Eigen::VectorXd rhs = Eigen::VectorXd::Zero(unknowns);
+  const auto ww = std::size_t(w);
+  for (std::size_t k = 0; k < cells; ++k) {
+    const int row = unknown_index[k];
+    if (row < 0) continue;
+    const std::size_t i = k / ww, j = k % ww;
+    const RowWeights r = row_weights(int(i), h);
+    double own = r.own;
+    const auto couple = [&](std::size_t q, double weight) {
+      own += weight;  // a fill cell's neighbours are fill or known: the components are maximal
+      if (unknown_index[q] >= 0)
+        entries.emplace_back(row, unknown_index[q], -weight);
+      else
+        rhs[row] += weight * v[q];
+    };
+    for_neighbours(int(i), int(j), w, h, r, couple);
+    entries.emplace_back(row, row, own);
+  }
+  Eigen::SparseMatrix<double> system(unknowns, unknowns);
+  system.setFromTriplets(entries.begin(), entries.end());
+  Eigen::SparseLU<Eigen::SparseMatrix<double>> solver;
+  solver.compute(system);
+  if (solver.info() != Eigen::Success) return false;
+  const Eigen::VectorXd solution = solver.solve(rhs);
+  for (std::size_t k = 0; k < cells; ++k) {
+    if (unknown_index[k] >= 0) v[k] = solution[unknown_index[k]];
+  }
+  return true;
+}
+
+// One level of the multigrid's pyramid: its cells' values (the fine level: the field; coarser:
+// corrections) and right-hand side.
+struct Level {
+  int w, h;
+  std::vector<double> v;
+  std::vector<char> kind;
+  std::vector<double> f{};  // empty: 0 (the fine level)
+};
+
+// Cell (i, j) of a level's grid.
+std::size_t at(const Level& l, int i, int j) {
+  return std::size_t(i) * std::size_t(l.w) + std::size_t(j);
+}
+
+// Solves the tridiagonal system a x_{k-1} + b_k x_k + a x_{k+1} = d_k (k = 0..n-1), cyclic when
+// `cyclic` (x_{-1} = x_{n-1}, x_n = x_0), in place of d (Thomas; Sherman-Morrison for the cycle).
+void solve_row(std::vector<double>& b, std::vector<double>& d, double a, bool cyclic) {
+  const auto n = b.size();
+  const auto thomas = [a, n](std::vector<double> bb, std::vector<double>& dd) {
+    for (std::size_t k = 1; k < n; ++k) {
+      const double m = a / bb[k - 1];
+      bb[k] -= m * a;
+      dd[k] -= m * dd[k - 1];
+    }
+    dd[n - 1] /= bb[n - 1];
+    for (std::size_t k = n - 1; k-- > 0;) dd[k] = (dd[k] - a * dd[k + 1]) / bb[k];
+  };
+  if (!cyclic || n < 3) {
+    thomas(b, d);
+    return;
+  }
+  // A = T + u v^T with u = (g, 0.., a), v = (1, 0.., a / g): T's corners adjusted.
+  const double g = -b[0];
+  std::vector<double> bt = b;
+  bt[0] -= g;
+  bt[n - 1] -= a * a / g;
+  std::vector<double> u(n, 0.0);
+  u[0] = g;
+  u[n - 1] = a;
+  thomas(bt, d);
+  thomas(bt, u);
+  const double factor = (d[0] + a / g * d[n - 1]) / (1.0 + u[0] + a / g * u[n - 1]);
+  for (std::size_t k = 0; k < n; ++k) d[k] -= factor * u[k];
+}
+
+// `sweeps` zebra line sweeps over the level's fill cells: the even rows, then the odd ones, each
+// row's fill cells solved exactly given the rows above and below (the azimuthal coupling grows as
+// 1 / sin^2(theta) over the polar one towards the poles, where point relaxation barely moves).
+void sweep(Level& l, int sweeps) {
+  std::vector<double> b, d;
+  std::vector<std::size_t> cells;
+  for (int it = 0; it < sweeps; ++it) {
+    for (int colour = 0; colour < 2; ++colour) {
+      for (int i = colour; i < l.h; i += 2) {
+        const RowWeights r = row_weights(i, l.h);
+        const std::size_t row = at(l, i, 0);
+        // The row's runs of fill cells, each from a cell whose left neighbour is not to fill
+        // (the whole row, cyclic, when every cell is).
+        int first = -1;
+        for (int j = 0; j < l.w; ++j) {
+          if (l.kind[row + std::size_t(j)] != kFill) {
+            first = j;
+            break;
+          }
+        }
+        const bool cyclic = first < 0;
+        const int start = cyclic ? 0 : first;
+        for (int step = 0; step < l.w;) {
+          const int j0 = (start + step) % l.w;
+          if (l.kind[row + std::size_t(j0)] != kFill) {
+            ++step;
+            continue;
+          }
+          b.clear();
+          d.clear();
+          cells.clear();
+          while (step < l.w && l.kind[row + std::size_t((start + step) % l.w)] == kFill) {
+            const auto k = row + std::size_t((start + step) % l.w);
+            double own = r.own, sum = 0;
+            const auto add = [&](std::size_t q, double weight) {
+              if (l.kind[q] == kNeither) return;  // left out of the stencil
+              own += weight;
+              if (l.kind[q] != kFill || q < row || q >= row + std::size_t(l.w))
+                sum += weight * l.v[q];
+            };
+            for_neighbours(i, (start + step) % l.w, l.w, l.h, r, add);
+            b.push_back(own);
+            d.push_back(sum + (l.f.empty() ? 0.0 : l.f[k]));
+            cells.push_back(k);
+            ++step;
+          }
+          solve_row(b, d, -r.azimuthal, cyclic);
+          for (std::size_t n = 0; n < cells.size(); ++n) l.v[cells[n]] = d[n];
+        }
+      }
+    }
+  }
+}
+
+// The residual f - A v at the level's fill cells (0 elsewhere).
+std::vector<double> residual(const Level& l) {
+  std::vector<double> res(l.v.size(), 0.0);
+  for (int i = 0; i < l.h; ++i) {
+    const RowWeights r = row_weights(i, l.h);
+    for (int j = 0; j < l.w; ++j) {
+      const std::size_t k = at(l, i, j);
+      if (l.kind[k] != kFill) continue;
+      double own = r.own, sum = 0;
+      const auto add = [&](std::size_t q, double weight) {
+        if (l.kind[q] == kNeither) return;
+        own += weight;
+        sum += weight * l.v[q];
+      };
+      for_neighbours(i, j, l.w, l.h, r, add);
+      res[k] = (l.f.empty() ? 0.0 : l.f[k]) + sum - own * l.v[k];
+    }
+  }
+  return res;
+}
+
+// One V-cycle from level l down (the correction scheme): smooth, the residual summed into the
+// coarser level's right-hand side (the equations are scaled by each cell's area, so sums are
+// consistent), its correction solved there, added back by injection, smooth again.
+void vcycle(std::vector<Level>& levels, std::size_t l, const MembraneFillParams& params) {
+  Level& fine = levels[l];
+  if (l + 1 == levels.size()) {
+    sweep(fine, params.coarsest_sweeps);
+    return;
+  }
+  sweep(fine, params.sweeps);
+  const std::vector<double> res = residual(fine);
+  Level& coarse = levels[l + 1];
+  std::fill(coarse.v.begin(), coarse.v.end(), 0.0);
+  std::fill(coarse.f.begin(), coarse.f.end(), 0.0);
+  for (int i = 0; i < fine.h; ++i)
+    for (int j = 0; j < fine.w; ++j) coarse.f[at(coarse, i / 2, j / 2)] += res[at(fine, i, j)];
+  vcycle(levels, l + 1, params);
+  for (int i = 0; i < fine.h; ++i)
+    for (int j = 0; j < fine.w; ++j) {
+      const std::size_t k = at(fine, i, j);
+      if (fine.kind[k] == kFill) fine.v[k] += coarse.v[at(coarse, i / 2, j / 2)];
+    }
+  sweep(fine, params.sweeps);
+}
+
+// The next coarser level of the multigrid: a cell is to fill when its four children are (so the
+// coarse regions stay inside the fine ones, whose operator is definite: grown by their rims, they
+// would near the hemisphere at the coarsest grid, where the plane's own mode makes it singular),
+// else known (its correction 0) when any child takes part.
+Level coarser(const Level& f) {
+  Level c{f.w / 2, f.h / 2, {}, {}};
+  c.v.assign(std::size_t(c.w) * std::size_t(c.h), 0.0);
+  c.f = c.v;
+  c.kind.assign(c.v.size(), kNeither);
+  for (int i = 0; i < c.h; ++i) {
+    for (int j = 0; j < c.w; ++j) {
+      int fills = 0, any = 0;
+      for (int q = 0; q < 4; ++q) {
+        const char kind = f.kind[at(f, 2 * i + q / 2, 2 * j + q % 2)];
+        fills += kind == kFill;
+        any += kind != kNeither;
+      }
+      c.kind[at(c, i, j)] = fills == 4 ? kFill : any > 0 ? kKnown : kNeither;
+    }
+  }
+  return c;
+}
+
+// Solves the fill cells by multigrid V-cycles (kMultigrid), started at `mean`.
+void solve_multigrid(std::vector<double>& v, const std::vector<char>& kind, int w, int h,
+                     double mean, const MembraneFillParams& params) {
+  std::vector<Level> levels{{w, h, v, kind}};
+  while (levels.back().h > 8 && levels.back().h % 2 == 0) levels.push_back(coarser(levels.back()));
+  for (std::size_t k = 0; k < v.size(); ++k)
+    if (kind[k] == kFill) levels[0].v[k] = mean;
+  for (int c = 0; c < params.cycles; ++c) vcycle(levels, 0, params);
+  v = std::move(levels[0].v);
 }
 
 }  // namespace
@@ -112,63 +360,24 @@ FloatImage membrane_fill_cpu(const FloatImage& distance, const FloatImage& confi
   // 2. The components large enough to fill.
   std::vector<int> sizes;
   const std::vector<int> label = components(known, w, h, sizes);
-  std::vector<char> fill(cells, 0);
+  std::vector<char> kind(cells, kNeither);
   for (std::size_t k = 0; k < cells; ++k) {
-    fill[k] = !known[k] && sizes[std::size_t(label[k])] >= params.min_cells;
-    // The unknown cells of small components are not solved; the interpolation of step 4 can
-    // reach one diagonally, and takes the known cells' mean there.
-    if (!known[k] && !fill[k]) v[k] = mean;
+    if (known[k])
+      kind[k] = kKnown;
+    else if (sizes[std::size_t(label[k])] >= params.min_cells)
+      kind[k] = kFill;
+    else
+      v[k] = mean;  // not solved; the interpolation of step 4 can reach one diagonally
   }
 
   // 3. (Laplace_S + 2) v = 0 on the cells to fill, the known cells as boundary values; row i's
   // centre at polar angle (i + 1/2) step. Times sin(theta_i) step^2, per cell:
   //   sin(theta_i+1/2) (v_s - v) + sin(theta_i-1/2) (v_n - v) + (v_e + v_w - 2 v) / sin(theta_i)
-  //   + 2 step^2 sin(theta_i) v = 0,
-  // a sparse linear system, solved directly (Eigen's SparseLU: it is not positive definite
-  // where a region is as large as a hemisphere).
-  const double step = std::numbers::pi / h;
-  const auto rows = std::size_t(h);
-  std::vector<double> north(rows), south(rows), azimuthal(rows), own(rows);
-  for (std::size_t i = 0; i < rows; ++i) {
-    north[i] = std::sin(double(i) * step);
-    south[i] = std::sin(double(i + 1) * step);
-    const double s = std::sin((double(i) + 0.5) * step);
-    azimuthal[i] = 1.0 / s;
-    own[i] = north[i] + south[i] + 2.0 * azimuthal[i] - 2.0 * step * step * s;
-  }
-  std::vector<int> unknown_index(cells, -1);
-  int unknowns = 0;
-  for (std::size_t k = 0; k < cells; ++k) {
-    if (fill[k]) unknown_index[k] = unknowns++;
-  }
-  if (unknowns == 0) return out;
-  std::vector<Eigen::Triplet<double>> entries;
-  Eigen::VectorXd rhs = Eigen::VectorXd::Zero(unknowns);
-  for (std::size_t k = 0; k < cells; ++k) {
-    const int row = unknown_index[k];
-    if (row < 0) continue;
-    const std::size_t i = k / std::size_t(w), j = k % std::size_t(w);
-    entries.emplace_back(row, row, own[i]);
-    const auto couple = [&](std::size_t q, double weight) {
-      if (unknown_index[q] >= 0)
-        entries.emplace_back(row, unknown_index[q], -weight);
-      else
-        rhs[row] += weight * v[q];  // a known cell: the components are maximal
-    };
-    const auto ww = std::size_t(w);
-    couple(i * ww + (j + 1) % ww, azimuthal[i]);
-    couple(i * ww + (j + ww - 1) % ww, azimuthal[i]);
-    if (i > 0) couple(k - ww, north[i]);
-    if (i + 1 < rows) couple(k + ww, south[i]);
-  }
-  Eigen::SparseMatrix<double> system(unknowns, unknowns);
-  system.setFromTriplets(entries.begin(), entries.end());
-  Eigen::SparseLU<Eigen::SparseMatrix<double>> solver;
-  solver.compute(system);
-  if (solver.info() != Eigen::Success) return out;  // singular: leave the distances as they are
-  const Eigen::VectorXd solution = solver.solve(rhs);
-  for (std::size_t k = 0; k < cells; ++k) {
-    if (unknown_index[k] >= 0) v[k] = solution[unknown_index[k]];
+  //   + 2 step^2 sin(theta_i) v = 0.
+  if (params.solver == MembraneSolver::kDirect) {
+    if (!solve_direct(v, kind, w, h)) return out;  // singular: leave the distances as they are
+  } else {
+    solve_multigrid(v, kind, w, h, mean, params);
   }
 
   // 4. The unconfident pixels of filled components take the field.
@@ -176,7 +385,8 @@ FloatImage membrane_fill_cpu(const FloatImage& distance, const FloatImage& confi
   for (int y = 0; y < height; ++y) {
     for (int x = 0; x < width; ++x) {
       const std::size_t k = std::size_t(y / c) * std::size_t(w) + std::size_t(x / c);
-      if (!fill[k] || !(distance(x, y) > 0) || confidence(x, y) >= params.fill_below) continue;
+      if (kind[k] != kFill || !(distance(x, y) > 0) || confidence(x, y) >= params.fill_below)
+        continue;
       const double fy = std::clamp((y + 0.5) / c - 0.5, 0.0, h - 1.0);
       const double fx = (x + 0.5) / c - 0.5;
       const int y0 = std::min(int(fy), h - 2 < 0 ? 0 : h - 2);
