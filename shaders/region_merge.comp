@@ -2,38 +2,12 @@
 #extension GL_GOOGLE_include_directive : require
 // Region planes, step 2a (server/stitch/region_planes.h): the union-find over the blocks with an
 // unconfident pixel, each united with its left (wrapping), upper-left, upper and upper-right
-// neighbours. The union links the larger root under the smaller by atomicMin and retries where
-// another invocation linked it first (Playne and Hawick, "A New Algorithm for Parallel
-// Connected-Component Labelling on GPUs", 2018), so a component's root is its least block.
+// neighbours (union_find.glsl: a component's root is its least block).
 layout(local_size_x_id = 100, local_size_y_id = 101, local_size_z_id = 102) in;
 
 layout(std430, set = 0, binding = 0) coherent volatile buffer Parent { uint parent[]; };
 #include "region_planes.glsl"
-
-uint find(uint i) {
-  uint p = parent[i];
-  while (p != i) {
-    i = p;
-    p = parent[i];
-  }
-  return i;
-}
-
-void unite(uint a, uint b) {
-  for (;;) {
-    a = find(a);
-    b = find(b);
-    if (a == b) return;
-    if (a < b) {
-      const uint t = a;
-      a = b;
-      b = t;
-    }
-    const uint old = atomicMin(parent[a], b);
-    if (old == a) return;
-    a = old;
-  }
-}
+#include "union_find.glsl"
 
 void main() {
   const ivec2 bp = ivec2(gl_GlobalInvocationID.xy);

@@ -1,9 +1,5 @@
 #include "server/pipeline/gpu_frame.h"
 
-#include <string>
-#include <utility>
-#include <vector>
-
 namespace omnisweep::pipeline {
 
 GpuFrame::GpuFrame(gpu::Context& context, depth::DepthEstimator& estimator,
@@ -29,9 +25,7 @@ stitch::Panorama GpuFrame::run(std::span<const Rgb8View> matching, std::span<con
   stitcher_->record(sequence_, estimator_->distance_buffer(), &estimator_->confidence_buffer());
   sequence_.submit_and_wait();
   stitch::Panorama panorama = stitcher_->download();
-  std::vector<std::pair<std::string, double>> stages = sequence_.stage_ms();
-  stages.insert(stages.end(), panorama.stage_ms.begin(), panorama.stage_ms.end());
-  panorama.stage_ms = std::move(stages);
+  panorama.stage_ms = sequence_.stage_ms();
   return panorama;
 }
 

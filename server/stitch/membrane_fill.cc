@@ -177,7 +177,9 @@ void solve_row(std::vector<double>& b, std::vector<double>& d, double a, bool cy
 }
 
 // `sweeps` zebra line sweeps over the level's fill cells: the even rows, then the odd ones, each
-// row's fill cells solved exactly given the rows above and below (the azimuthal coupling grows as
+// row's fill cells solved exactly given the rows above and below, for the change of their values
+// from their residuals (so the GPU's float rounding falls on the change: by the poles a whole
+// row's system is nearly singular) (the azimuthal coupling grows as
 // 1 / sin^2(theta) over the polar one towards the poles, where point relaxation barely moves).
 void sweep(Level& l, int sweeps) {
   std::vector<double> b, d;
@@ -213,17 +215,16 @@ void sweep(Level& l, int sweeps) {
             const auto add = [&](std::size_t q, double weight) {
               if (l.kind[q] == kNeither) return;  // left out of the stencil
               own += weight;
-              if (l.kind[q] != kFill || q < row || q >= row + std::size_t(l.w))
-                sum += weight * l.v[q];
+              sum += weight * l.v[q];
             };
             for_neighbours(i, (start + step) % l.w, l.w, l.h, r, add);
             b.push_back(own);
-            d.push_back(sum + (l.f.empty() ? 0.0 : l.f[k]));
+            d.push_back((l.f.empty() ? 0.0 : l.f[k]) + sum - own * l.v[k]);  // the residual
             cells.push_back(k);
             ++step;
           }
           solve_row(b, d, -r.azimuthal, cyclic);
-          for (std::size_t n = 0; n < cells.size(); ++n) l.v[cells[n]] = d[n];
+          for (std::size_t n = 0; n < cells.size(); ++n) l.v[cells[n]] += d[n];
         }
       }
     }

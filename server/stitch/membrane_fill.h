@@ -32,6 +32,9 @@
 // multigrid's MAE equals the direct solve's to 4 digits (docs/accuracy.md).
 #pragma once
 
+#include "omnisweep/gpu/buffer.h"
+#include "omnisweep/gpu/kernel.h"
+#include "omnisweep/gpu/sequence.h"
 #include "omnisweep/image/image.h"
 
 namespace omnisweep::stitch {
@@ -47,9 +50,9 @@ struct MembraneFillParams {
   int cell = 8;               // pixels per cell side
   int min_cells = 1000;       // smaller components of unknown cells are left alone
   MembraneSolver solver = MembraneSolver::kMultigrid;
-  int cycles = 6;             // V-cycles (kMultigrid)
-  int sweeps = 4;             // line sweeps before and after each coarse correction (kMultigrid)
-  int coarsest_sweeps = 200;  // line sweeps on the coarsest grid (kMultigrid)
+  int cycles = 6;            // V-cycles (kMultigrid)
+  int sweeps = 4;            // line sweeps before and after each coarse correction (kMultigrid)
+  int coarsest_sweeps = 30;  // line sweeps on the coarsest grid (kMultigrid)
   // For a panorama `width` pixels wide: the cell scaled from 2048.
   static MembraneFillParams for_width(int width);
   // Throws std::invalid_argument naming a setting out of range.
@@ -62,5 +65,32 @@ struct MembraneFillParams {
 FloatImage membrane_fill_cpu(const FloatImage& distance, const FloatImage& confidence,
                              const MembraneFillParams& params, double min_distance,
                              double max_distance);
+
+// The membrane fill on the GPU (the membrane_*.comp kernels, five dispatches; the solve is one
+// workgroup of 1024 invocations, steps 1-3 of membrane_fill_cpu with MembraneSolver::kMultigrid,
+// in float). Keep the two in step.
+class MembraneFill {
+ public:
+  // Throws std::invalid_argument as membrane_fill_cpu does, or where params.solver is kDirect.
+  MembraneFill(gpu::Context& context, int width, int height, const MembraneFillParams& params,
+               double min_distance, double max_distance);
+
+  // Records the fill into `seq` after what writes `distance` (float metres) and `confidence`;
+  // `distance` is rewritten in place.
+  void record(gpu::Sequence& seq, gpu::Buffer& distance, const gpu::Buffer& confidence) const;
+
+ private:
+  int width_, height_;
+  MembraneFillParams params_;
+  double min_distance_, max_distance_;
+  int w_, h_, levels_;
+  gpu::Buffer value_;    // per cell of every level: the field (fine), the corrections (coarser)
+  gpu::Buffer rhs_;      // per cell of every level: the right-hand side
+  gpu::Buffer kind_;     // per cell of every level (membrane_fill.glsl's kinds)
+  gpu::Buffer parent_;   // per fine cell: union-find parent, then the root
+  gpu::Buffer sizes_;    // per fine cell (as root): its component's cells
+  gpu::Buffer scratch_;  // the line solves' three vectors, a fine grid each
+  gpu::Kernel cells_, merge_, flatten_, solve_, apply_;
+};
 
 }  // namespace omnisweep::stitch

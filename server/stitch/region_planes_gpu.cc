@@ -33,11 +33,7 @@ gpu::Buffer ray_table(gpu::Context& context, int width, int height) {
 }
 
 gpu::KernelLayout layout(std::uint32_t buffers, std::array<std::uint32_t, 3> local) {
-  gpu::KernelLayout l;
-  l.bindings.assign(buffers, gpu::BindingSlot(1));
-  l.push_constant_bytes = sizeof(RegionPush);
-  l.local_size = local;
-  return l;
+  return gpu::KernelLayout::storage_buffers(buffers, sizeof(RegionPush), local);
 }
 
 constexpr std::array<std::uint32_t, 3> kPerBlock = {8, 8, 1};

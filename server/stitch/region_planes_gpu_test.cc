@@ -11,6 +11,7 @@
 #include "server/stitch/region_planes.h"
 #include "server/stitch/region_planes_scene.h"
 #include "tests/support/gpu_test_support.h"
+#include "tests/support/panorama_pass.h"
 
 namespace omnisweep::stitch {
 namespace {
@@ -21,18 +22,12 @@ using RegionPlanesGpuTest = omnisweep::testing::ValidatedGpuTest;
 RegionPlaneParams params() { return RegionPlaneParams::for_width(kW); }
 
 FloatImage run_gpu(gpu::Context& context, const Scene& s, const RegionPlaneParams& p) {
-  const vk::DeviceSize bytes = vk::DeviceSize(kW) * kH * 4;
-  gpu::Buffer distance(context, bytes), confidence(context, bytes);
-  distance.upload(s.distance.data(), bytes);
-  confidence.upload(s.confidence.data(), bytes);
   const RegionPlanes planes(context, kW, kH, p, kMinDistance, kMaxDistance);
-  gpu::Sequence seq(context);
-  seq.begin();
-  planes.record(seq, distance, confidence);
-  seq.submit_and_wait();
-  FloatImage result(kW, kH);
-  distance.download(result.data(), bytes);
-  return result;
+  return omnisweep::testing::run_panorama_pass(
+      context, s.distance, s.confidence,
+      [&](gpu::Sequence& seq, gpu::Buffer& distance, const gpu::Buffer& confidence) {
+        planes.record(seq, distance, confidence);
+      });
 }
 
 double inverse(float d) { return d > 0 ? 1.0 / d : 0.0; }

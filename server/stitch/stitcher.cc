@@ -1,13 +1,8 @@
 #include "server/stitch/stitcher.h"
 
-#include <chrono>
 #include <cmath>
 #include <stdexcept>
 #include <string>
-#include <utility>
-#include <vector>
-
-#include "server/stitch/membrane_fill.h"
 
 namespace omnisweep::stitch {
 namespace {
@@ -145,6 +140,10 @@ Stitcher::Stitcher(gpu::Context& context, const Rig& matching_rig, const Rig& co
   if (options.edge_check)
     edge_check_.emplace(context, options.panorama_width, options.panorama_height,
                         EdgeCheckParams::for_width(options.panorama_width));
+  if (options.membrane_fill)
+    membrane_fill_.emplace(context, options.panorama_width, options.panorama_height,
+                           MembraneFillParams::for_width(options.panorama_width),
+                           options.min_distance, options.max_distance);
   if (options.temporal)
     temporal_.emplace(context, options.panorama_width, options.panorama_height, *options.temporal);
   gpu_bytes_ = context.allocated_bytes() - allocated_before_;
@@ -278,12 +277,16 @@ void Stitcher::record(gpu::Sequence& seq, const gpu::Buffer& distance,
     seq.begin_stage("edge check");
     edge_check_->record(seq, out_color_, out_distance_, out_confidence_);
   }
+  if (membrane_fill_ && confidence) {
+    seq.barrier();
+    seq.begin_stage("membrane fill");
+    membrane_fill_->record(seq, out_distance_, out_confidence_);
+  }
   if (temporal_) {
     seq.barrier();
     temporal_->record(seq, out_distance_, out_color_, out_confidence_);
   }
   seq.end_stage();
-  recorded_confidence_ = confidence != nullptr;
 }
 
 Panorama Stitcher::download() const {
@@ -298,15 +301,6 @@ Panorama Stitcher::download() const {
   for (std::size_t p = 0; p < rgba.size(); ++p) {
     for (int c = 0; c < 3; ++c)
       out.rgb.data()[3 * p + c] = std::uint8_t((rgba[p] >> (8 * c)) & 255);
-  }
-  if (options_.membrane_fill && recorded_confidence_) {
-    const auto start = std::chrono::steady_clock::now();
-    out.distance = membrane_fill_cpu(out.distance, out.confidence,
-                                     MembraneFillParams::for_width(options_.panorama_width),
-                                     options_.min_distance, options_.max_distance);
-    out.stage_ms.emplace_back("membrane fill (host)", std::chrono::duration<double, std::milli>(
-                                                          std::chrono::steady_clock::now() - start)
-                                                          .count());
   }
   return out;
 }
@@ -341,9 +335,7 @@ Panorama Stitcher::stitch(std::span<const FloatView> distance, std::span<const R
   record(sequence_, distances_, confidence.empty() ? nullptr : &confidences_);
   sequence_.submit_and_wait();
   Panorama out = download();
-  std::vector<std::pair<std::string, double>> stages = sequence_.stage_ms();
-  stages.insert(stages.end(), out.stage_ms.begin(), out.stage_ms.end());
-  out.stage_ms = std::move(stages);
+  out.stage_ms = sequence_.stage_ms();
   return out;
 }
 

@@ -14,6 +14,7 @@
 #include "omnisweep/reproject/forward_warp.h"
 #include "omnisweep/rig/rig.h"
 #include "server/stitch/edge_check.h"
+#include "server/stitch/membrane_fill.h"
 #include "server/stitch/plane_fill.h"
 #include "server/stitch/region_planes.h"
 #include "server/stitch/temporal_filter.h"
@@ -45,10 +46,9 @@ struct StitchOptions {
   // default (ALGORITHM.md). Needs the cost confidences, as the plane fill.
   bool edge_check = false;
   // The membrane fill (membrane_fill.h): each large unconfident region's inverse distance solved
-  // from the confident distances around it; after the edge check and the temporal filter. Off by
-  // default (ALGORITHM.md). For now it runs on the host, in download(), from the downloaded
-  // panorama (Panorama::stage_ms names it "membrane fill (host)"); needs the cost confidences, as
-  // the plane fill, and a panorama whose sides are whole numbers of its cells.
+  // from the confident distances around it; after the edge check, before the temporal filter. Off
+  // by default (ALGORITHM.md). Needs the cost confidences, as the plane fill, and a panorama whose
+  // sides are whole numbers of its cells.
   bool membrane_fill = false;
   // A temporal filter on the panorama's distance (temporal_filter.h) for streams: each frame
   // then depends on the ones before it. None by default.
@@ -95,8 +95,6 @@ class Stitcher {
   const std::vector<int>& references() const { return references_; }
   void record(gpu::Sequence& seq, const gpu::Buffer& distance,
               const gpu::Buffer* confidence = nullptr);
-  // The panorama the last submission of record() made, with the host's stages run on it (the
-  // membrane fill) and their times in stage_ms.
   Panorama download() const;
 
   const Eigen::Vector3d& viewpoint() const { return viewpoint_; }
@@ -133,8 +131,8 @@ class Stitcher {
   std::optional<gpu::Buffer> merged_distance_;  // the merge's distances, with the plane fill
   std::optional<RegionPlanes> region_planes_;
   std::optional<EdgeCheck> edge_check_;
+  std::optional<MembraneFill> membrane_fill_;
   std::optional<TemporalFilter> temporal_;
-  bool recorded_confidence_ = false;  // the last record() had the cost confidences
   gpu::Sequence sequence_;
   std::uint64_t gpu_bytes_ = 0;
 };

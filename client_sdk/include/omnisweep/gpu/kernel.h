@@ -55,6 +55,16 @@ struct KernelLayout {
   std::uint32_t push_constant_bytes = 0;
   std::array<std::uint32_t, 3> local_size = {8, 8, 1};
   std::vector<SpecConstant> constants{};
+
+  // `buffers` storage buffers, push constants of `push_bytes`, workgroups of `local`.
+  static KernelLayout storage_buffers(std::uint32_t buffers, std::uint32_t push_bytes,
+                                      std::array<std::uint32_t, 3> local) {
+    KernelLayout l;
+    l.bindings.assign(buffers, BindingSlot(1));
+    l.push_constant_bytes = push_bytes;
+    l.local_size = local;
+    return l;
+  }
 };
 
 // The Vulkan descriptor type of a binding kind.
