@@ -81,66 +81,78 @@ float residual(int l, int i, int j) {
 
 // Row i of level l: each run of cells to fill solved exactly given the rows beside it, for the
 // change of its values from their residuals (so float's rounding falls on the change: by the
-// poles a whole row's system is nearly singular, its lowest mode 1e-4 of its diagonal).
+// poles a whole row's system is nearly singular, its lowest mode 1e-4 of its diagonal). Thomas's
+// elimination streams over the row once forward and once back, each loop of exactly w steps
+// whatever the runs (lavapipe's loop limit counts a SIMD group's iterations, and rows whose runs
+// differ would multiply nested loops); a whole row to fill is a cycle, its corners moved into
+// u v^T (Sherman-Morrison, membrane_fill.cc's solve_row). scratch: b', d' then x, u, a fine grid
+// each.
 void solve_row(int l, int i) {
-  const int w = level_w(l), h = level_h(l), base = level_base(l), row = i * w;
-  const int cells = push.w * push.h;  // scratch: b, d and u, a fine grid each
-  const float a = -row_weights(i, h).azimuthal;
+  const int w = level_w(l), base = level_base(l), row = i * w;
+  const int cells = push.w * push.h;
+  const float a = -row_weights(i, level_h(l)).azimuthal;
   int first = -1;
-  for (int j = 0; j < w && first < 0; ++j) {
-    if (kind[base + row + j] != kFill) first = j;
+  for (int j = 0; j < w; ++j) {
+    if (first < 0 && kind[base + row + j] != kFill) first = j;
   }
-  const bool cyclic = first < 0;
-  const int start = cyclic ? 0 : first;
-  int step = 0;
-  while (step < w) {
-    if (kind[base + row + (start + step) % w] != kFill) {
-      ++step;
+  const bool cycle = first < 0;
+  const int start = cycle ? 0 : first;
+  float g = 1.0, b_prev = 1.0, d_prev = 0.0, u_prev = 0.0;
+  bool in_run = false;
+  for (int s = 0; s < w; ++s) {
+    const int j = (start + s) % w;
+    if (kind[base + row + j] != kFill) {
+      in_run = false;
       continue;
     }
-    const int run = step;
-    int n = 0;
-    for (; step < w && kind[base + row + (start + step) % w] == kFill; ++step, ++n) {
-      const int j = (start + step) % w;
-      scratch[row + n] = stencil(l, i, j).x;
-      scratch[cells + row + n] = residual(l, i, j);
+    float b = stencil(l, i, j).x, d = residual(l, i, j), u = 0.0;
+    if (cycle && s == 0) {
+      g = -b;
+      b -= g;
+      u = g;
     }
-    // Thomas on b (row ..), d (cells + row ..) and, for the cycle, u (2 cells + row ..): the
-    // corners of the cyclic system moved into u v^T (membrane_fill.cc's solve_row).
-    const bool cycle = cyclic && n >= 3;
-    const float g = -scratch[row];
-    if (cycle) {
-      scratch[row] -= g;
-      scratch[row + n - 1] -= a * a / g;
-      for (int m = 0; m < n; ++m) scratch[2 * cells + row + m] = 0.0;
-      scratch[2 * cells + row] = g;
-      scratch[2 * cells + row + n - 1] = a;
+    if (cycle && s == w - 1) {
+      b -= a * a / g;
+      u = a;
     }
-    for (int m = 1; m < n; ++m) {
-      const float f = a / scratch[row + m - 1];
-      scratch[row + m] -= f * a;
-      scratch[cells + row + m] -= f * scratch[cells + row + m - 1];
-      if (cycle) scratch[2 * cells + row + m] -= f * scratch[2 * cells + row + m - 1];
+    if (in_run) {
+      const float m = a / b_prev;
+      b -= m * a;
+      d -= m * d_prev;
+      u -= m * u_prev;
     }
-    scratch[cells + row + n - 1] /= scratch[row + n - 1];
-    if (cycle) scratch[2 * cells + row + n - 1] /= scratch[row + n - 1];
-    for (int m = n - 2; m >= 0; --m) {
-      scratch[cells + row + m] =
-          (scratch[cells + row + m] - a * scratch[cells + row + m + 1]) / scratch[row + m];
-      if (cycle)
-        scratch[2 * cells + row + m] =
-            (scratch[2 * cells + row + m] - a * scratch[2 * cells + row + m + 1]) /
-            scratch[row + m];
+    scratch[row + s] = b;
+    scratch[cells + row + s] = d;
+    scratch[2 * cells + row + s] = u;
+    b_prev = b;
+    d_prev = d;
+    u_prev = u;
+    in_run = true;
+  }
+  float x_next = 0.0, v_next = 0.0;
+  bool next_in_run = false;
+  for (int s = w - 1; s >= 0; --s) {
+    if (kind[base + row + (start + s) % w] != kFill) {
+      next_in_run = false;
+      continue;
     }
-    float factor = 0.0;
-    if (cycle) {
-      factor = (scratch[cells + row] + a / g * scratch[cells + row + n - 1]) /
-               (1.0 + scratch[2 * cells + row] + a / g * scratch[2 * cells + row + n - 1]);
-    }
-    for (int m = 0; m < n; ++m) {
-      value[base + row + (start + run + m) % w] +=
-          scratch[cells + row + m] - (cycle ? factor * scratch[2 * cells + row + m] : 0.0);
-    }
+    const float b = scratch[row + s];
+    const float x = (scratch[cells + row + s] - (next_in_run ? a * x_next : 0.0)) / b;
+    const float v = (scratch[2 * cells + row + s] - (next_in_run ? a * v_next : 0.0)) / b;
+    scratch[cells + row + s] = x;
+    scratch[2 * cells + row + s] = v;
+    x_next = x;
+    v_next = v;
+    next_in_run = true;
+  }
+  float factor = 0.0;
+  if (cycle) {
+    factor = (scratch[cells + row] + a / g * scratch[cells + row + w - 1]) /
+             (1.0 + scratch[2 * cells + row] + a / g * scratch[2 * cells + row + w - 1]);
+  }
+  for (int s = 0; s < w; ++s) {
+    const int k = base + row + (start + s) % w;
+    if (kind[k] == kFill) value[k] += scratch[cells + row + s] - factor * scratch[2 * cells + row + s];
   }
 }
 

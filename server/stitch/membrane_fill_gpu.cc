@@ -113,8 +113,9 @@ void MembraneFill::record(gpu::Sequence& seq, gpu::Buffer& distance,
   seq.dispatch(flatten_, {parent_, sizes_}, push, per_cell);
   seq.barrier();
   // The kinds, then two dispatches per V-cycle (down, up): lavapipe ends every loop of an
-  // invocation once it has run 65 535 iterations of its loops in all, and a whole cycle at
-  // 256 x 128 cells runs about 60 000 in the invocation of a row that is all to fill.
+  // invocation (a SIMD group of 8) once it has run 65 535 iterations of its loops in all, and a
+  // whole cycle at 256 x 128 cells runs about 60 000 (the line solves stream over their rows in
+  // loops of the row's width for that reason, membrane_solve.comp).
   for (int phase = 0; phase <= 2 * p.cycles; ++phase) {
     push.phase = phase == 0 ? 0 : 2 - phase % 2;
     seq.dispatch(solve_, {value_, rhs_, kind_, parent_, sizes_, scratch_}, push, {1, 1, 1});

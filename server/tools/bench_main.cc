@@ -330,11 +330,12 @@ int run(int argc, char** argv) {
                  "../shared/data/blender-hall; empty: none)");
   depth::DepthOptions model_options;
   double model_plane_fill = 0.0;
-  bool model_region_planes = false, model_edge_check = false;
+  bool model_region_planes = false, model_edge_check = false, model_membrane_fill = false;
   tools::add_matching_cost_flags(app, model_options, {&model_plane_fill, &model_region_planes});
   tools::add_plane_fill_flag(app, model_plane_fill);
   tools::add_region_planes_flag(app, model_region_planes);
   tools::add_edge_check_flag(app, model_edge_check);
+  tools::add_membrane_fill_flag(app, model_membrane_fill);
   CLI11_PARSE(app, argc, argv);
 
   gpu::Context context(tools::context_options(device));
@@ -350,7 +351,7 @@ int run(int argc, char** argv) {
   };
   if (want("model"))
     tools::model_section(context, model_options, model_plane_fill, model_region_planes,
-                         model_edge_check, model_resolution, json);
+                         model_edge_check, model_membrane_fill, model_resolution, json);
   if (want("accuracy")) tools::accuracy_section(context, accuracy, json);
   if (want("stages")) stage_section(context, resolutions, iterations, json);
   if (want("filters")) filter_section(context, filter_resolution, iterations, skip_fbs, json);

@@ -155,7 +155,7 @@ void record_frame(gpu::Context& context, const synthetic::SyntheticRig& rig,
 }
 
 // Whether two settings agree in every variant that a method sets (depth::Method), and in the
-// edge check and the matching images' blur.
+// edge check, the membrane fill and the matching images' blur.
 bool same_variants(const depth::DepthOptions& a, const stitch::StitchOptions& a_stitch,
                    const depth::DepthOptions& b, const stitch::StitchOptions& b_stitch) {
   return a.cost == b.cost && a.correct_photometry == b.correct_photometry &&
@@ -163,7 +163,8 @@ bool same_variants(const depth::DepthOptions& a, const stitch::StitchOptions& a_
          a.sigma_s == b.sigma_s && a.match_blur == b.match_blur &&
          a_stitch.plane_fill == b_stitch.plane_fill &&
          a_stitch.region_planes == b_stitch.region_planes &&
-         a_stitch.edge_check == b_stitch.edge_check;
+         a_stitch.edge_check == b_stitch.edge_check &&
+         a_stitch.membrane_fill == b_stitch.membrane_fill;
 }
 
 // The frame's predicted time over the paper's frame's, per device, side by side: the time
@@ -205,11 +206,13 @@ double predicted_xavier_ms(const gpu::CommandLog& log) {
 }
 
 void model_section(gpu::Context& context, depth::DepthOptions options, double plane_fill,
-                   bool region_planes, bool edge_check, int resolution, bool json) {
+                   bool region_planes, bool edge_check, bool membrane_fill, int resolution,
+                   bool json) {
   stitch::StitchOptions stitch_options;
   stitch_options.plane_fill = plane_fill;
   stitch_options.region_planes = region_planes;
   stitch_options.edge_check = edge_check;
+  stitch_options.membrane_fill = membrane_fill;
   if (resolution > 0) {
     options.matching_width = options.matching_height = resolution;
     stitch_options.panorama_width = 2 * resolution;
@@ -241,6 +244,7 @@ void model_section(gpu::Context& context, depth::DepthOptions options, double pl
   depth::DepthOptions paper_options = options;
   stitch::StitchOptions paper_stitch = stitch_options;
   paper_stitch.edge_check = false;
+  paper_stitch.membrane_fill = false;
   paper_options.match_blur = 0;
   apply_method(*depth::method_named("paper"), paper_options,
                {&paper_stitch.plane_fill, &paper_stitch.region_planes});

@@ -11,13 +11,15 @@ namespace omnisweep::tools {
 double predicted_xavier_ms(const gpu::CommandLog& log);
 
 // Runs frames of the depth estimator (with `options`) and the stitcher at their defaults (with
-// the plane fill `plane_fill`, the region planes if `region_planes` and the edge check if
-// `edge_check`, as StitchOptions), or
+// the plane fill `plane_fill`, the region planes if `region_planes`, the edge check if
+// `edge_check` and the membrane fill if `membrane_fill`, as StitchOptions; the membrane fill's
+// solve is one workgroup's serial work, which the model's bytes and dispatches do not count), or
 // with matching `resolution` and a panorama of 2 x `resolution` x `resolution`; records what they
 // submit (gpu::CommandLog) and prints, per stage and for the frame, dispatches, barriers, host
 // round trips, bound bytes and the predicted time on named devices; where the variants are not
 // the paper's method, the paper's frame recorded beside it and the ratio of the two per device.
 void model_section(gpu::Context& context, depth::DepthOptions options, double plane_fill,
-                   bool region_planes, bool edge_check, int resolution, bool json);
+                   bool region_planes, bool edge_check, bool membrane_fill, int resolution,
+                   bool json);
 
 }  // namespace omnisweep::tools

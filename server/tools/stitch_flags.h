@@ -67,8 +67,7 @@ inline void add_membrane_fill_flag(CLI::App& app, bool& membrane_fill) {
   app.add_flag("--membrane-fill,!--no-membrane-fill", membrane_fill,
                "Solve the inverse distance of each large unconfident region (confidence below "
                "0.1) from the confident distances around it, exact where they lie on one plane "
-               "(after the fills and the edge check; on the host for now; default off; "
-               "docs/accuracy.md)");
+               "(on the GPU, after the fills and the edge check; default off; docs/accuracy.md)");
 }
 
 // --edge-check into `edge_check` (StitchOptions::edge_check, stitch/edge_check.h).
