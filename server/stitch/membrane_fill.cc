@@ -20,6 +20,14 @@ MembraneFillParams MembraneFillParams::for_width(int width) {
   return p;
 }
 
+void MembraneFillParams::check_panorama(int width, int height) const {
+  if (width != 2 * height || width % cell != 0 || height % cell != 0) {
+    throw std::invalid_argument(
+        "membrane fill: the panorama is " + std::to_string(width) + "x" + std::to_string(height) +
+        "; it must be 2:1 and a whole number of cells of " + std::to_string(cell) + " pixels");
+  }
+}
+
 void MembraneFillParams::check() const {
   auto bad = [](const char* name, double value, const std::string& range) {
     throw std::invalid_argument("MembraneFillParams::" + std::string(name) + " is " +
@@ -145,6 +153,22 @@ std::size_t at(const Level& l, int i, int j) {
   return std::size_t(i) * std::size_t(l.w) + std::size_t(j);
 }
 
+// Cell (i, j)'s equation at a level, row weights r: its own weight (the stencil's neighbours that
+// take part; a neighbour that is neither is left out) and its residual f - A v.
+struct Equation {
+  double own, residual;
+};
+Equation equation(const Level& l, int i, int j, const RowWeights& r) {
+  double own = r.own, sum = 0;
+  for_neighbours(i, j, l.w, l.h, r, [&](std::size_t q, double weight) {
+    if (l.kind[q] == kNeither) return;
+    own += weight;
+    sum += weight * l.v[q];
+  });
+  const std::size_t k = at(l, i, j);
+  return {own, (l.f.empty() ? 0.0 : l.f[k]) + sum - own * l.v[k]};
+}
+
 // Solves the tridiagonal system a x_{k-1} + b_k x_k + a x_{k+1} = d_k (k = 0..n-1), cyclic when
 // `cyclic` (x_{-1} = x_{n-1}, x_n = x_0), in place of d (Thomas; Sherman-Morrison for the cycle).
 void solve_row(std::vector<double>& b, std::vector<double>& d, double a, bool cyclic) {
@@ -210,17 +234,11 @@ void sweep(Level& l, int sweeps) {
           d.clear();
           cells.clear();
           while (step < l.w && l.kind[row + std::size_t((start + step) % l.w)] == kFill) {
-            const auto k = row + std::size_t((start + step) % l.w);
-            double own = r.own, sum = 0;
-            const auto add = [&](std::size_t q, double weight) {
-              if (l.kind[q] == kNeither) return;  // left out of the stencil
-              own += weight;
-              sum += weight * l.v[q];
-            };
-            for_neighbours(i, (start + step) % l.w, l.w, l.h, r, add);
-            b.push_back(own);
-            d.push_back((l.f.empty() ? 0.0 : l.f[k]) + sum - own * l.v[k]);  // the residual
-            cells.push_back(k);
+            const int j = (start + step) % l.w;
+            const Equation e = equation(l, i, j, r);
+            b.push_back(e.own);
+            d.push_back(e.residual);
+            cells.push_back(row + std::size_t(j));
             ++step;
           }
           solve_row(b, d, -r.azimuthal, cyclic);
@@ -238,15 +256,7 @@ std::vector<double> residual(const Level& l) {
     const RowWeights r = row_weights(i, l.h);
     for (int j = 0; j < l.w; ++j) {
       const std::size_t k = at(l, i, j);
-      if (l.kind[k] != kFill) continue;
-      double own = r.own, sum = 0;
-      const auto add = [&](std::size_t q, double weight) {
-        if (l.kind[q] == kNeither) return;
-        own += weight;
-        sum += weight * l.v[q];
-      };
-      for_neighbours(i, j, l.w, l.h, r, add);
-      res[k] = (l.f.empty() ? 0.0 : l.f[k]) + sum - own * l.v[k];
+      if (l.kind[k] == kFill) res[k] = equation(l, i, j, r).residual;
     }
   }
   return res;
@@ -320,11 +330,7 @@ FloatImage membrane_fill_cpu(const FloatImage& distance, const FloatImage& confi
   require_same_size("membrane fill",
                     {sized("distance", distance), sized("confidence", confidence)});
   const int width = distance.width(), height = distance.height(), c = params.cell;
-  if (width != 2 * height || width % c != 0 || height % c != 0) {
-    throw std::invalid_argument(
-        "membrane fill: the panorama is " + std::to_string(width) + "x" + std::to_string(height) +
-        "; it must be 2:1 and a whole number of cells of " + std::to_string(c) + " pixels");
-  }
+  params.check_panorama(width, height);
   if (!(min_distance > 0 && max_distance > min_distance))
     throw std::invalid_argument("membrane fill: the distance range must be 0 < min < max");
   const int w = width / c, h = height / c;

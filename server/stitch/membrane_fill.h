@@ -57,6 +57,9 @@ struct MembraneFillParams {
   static MembraneFillParams for_width(int width);
   // Throws std::invalid_argument naming a setting out of range.
   void check() const;
+  // Throws std::invalid_argument where a width x height panorama is not 2:1 or not a whole
+  // number of cells.
+  void check_panorama(int width, int height) const;
 };
 
 // `distance` (metres, 0 = none) with its large unconfident regions filled as above; every other

@@ -30,15 +30,11 @@ constexpr std::uint32_t kSolveThreads = 1024;  // membrane_solve.comp's kThreads
 // The fine grid's cells, checked as membrane_fill_cpu checks them.
 int cells_across(int width, int height, const MembraneFillParams& params) {
   params.check();
-  const int c = params.cell;
-  if (width < 1 || width != 2 * height || width % c != 0 || height % c != 0) {
-    throw std::invalid_argument(
-        "membrane fill: the panorama is " + std::to_string(width) + "x" + std::to_string(height) +
-        "; it must be 2:1 and a whole number of cells of " + std::to_string(c) + " pixels");
-  }
+  params.check_panorama(width, height);
+  if (width < 1) throw std::invalid_argument("membrane fill: the panorama is empty");
   if (params.solver != MembraneSolver::kMultigrid)
     throw std::invalid_argument("membrane fill: the GPU solves by multigrid only");
-  return width / c;
+  return width / params.cell;
 }
 
 // The multigrid's levels: halved while the grid has more than 8 rows, an even number.
